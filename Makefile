@@ -1,0 +1,43 @@
+# Every set-up step lives here: `make demo` and `make test` work from a fresh
+# clone on a fresh Debian 12 machine (as root; sudo is used when not root).
+SHELL := /bin/bash
+VENV  := .venv
+PY    := $(VENV)/bin/python
+SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+# Debian's PETSc 3.18 (real scalars; libpetsc-real3.18-dev provides the
+# /usr/lib/petsc alternative that petsc4py's .pth file looks for).
+DEBS  := python3-petsc4py python3-mpi4py python3-h5py python3-numpy python3-scipy \
+         python3-matplotlib python3-pytest python3-hypothesis python3-venv \
+         python3-setuptools python3-pip libpetsc-real3.18-dev openmpi-bin
+STAMP := $(VENV)/.installed
+
+# OpenMPI refuses root without these; oversubscribe lets 2 ranks share 1 core.
+export OMPI_ALLOW_RUN_AS_ROOT := 1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
+export OMPI_MCA_rmaps_base_oversubscribe := 1
+export MPLBACKEND := agg
+
+.PHONY: install demo test bench clean
+
+install: $(STAMP)
+
+$(STAMP): pyproject.toml
+	@missing=$$(for p in $(DEBS); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages: $$missing"; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+	/usr/bin/python3 -m venv --system-site-packages $(VENV)
+	$(PY) -m pip install --no-build-isolation --no-deps --disable-pip-version-check -q -e .
+	$(PY) -c "import petsc4py, mpi4py, h5py, numpy; print('vstpetsc installed with PETSc', __import__('petsc4py').__version__)"
+	touch $(STAMP)
+
+demo: install
+	$(VENV)/bin/vstpetsc run examples/bar-wall.toml -o demo.h5
+	@echo "demo result written to $$(pwd)/demo.h5"
+
+test: install
+	$(PY) -m pytest -q tests
+
+clean:
+	rm -rf $(VENV) build *.egg-info demo.h5

@@ -1,0 +1,5 @@
+import sys
+
+from vstpetsc.cli import main
+
+sys.exit(main())

@@ -1,0 +1,124 @@
+"""Penalty contact in velocity (formulation.md sections 3-6).  Pure numpy.
+
+Inside a slab the gap of a pair is the quadratic
+
+    g(theta) = g^n - I_1(theta) d^1 - I_2(theta) d^2,   d^a = sum_k c_k v_{n_k}^a
+
+where the pair's nodes ``n_k`` carry signs ``c_k`` (+1 for the body on the
+left, -1 for the body on the right).  The penalty terms are integrated
+exactly over the active part {g < 0}: split the slab at the real roots of g,
+then a 3-point Gauss rule on each active piece (the integrands are
+polynomials of degree <= 4).  The residual of node ``n_k`` gets
+``-c_k w G_a`` with ``G_a = int min(0, g) phi_a dt``; the weight ``phi_a`` is
+I_a for the seed's penalty and T_a for the consistent ("power") one.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vstpetsc.history import GAUSS_W, GAUSS_X
+
+DEFAULT_BETA = 50.0
+
+
+@dataclass
+class ContactPair:
+    """One contact pair in mesh terms.
+
+    ``nodes`` are one or two global node numbers with ``signs`` (+1: the
+    node's body is on the left of the gap, -1: on the right); a wall pair has
+    one node.  ``g0`` is the initial gap, ``penalty`` the weight w of the
+    residual term and ``formulation`` "seed" or "power".
+    """
+
+    nodes: tuple
+    signs: tuple
+    g0: float
+    penalty: float
+    formulation: str
+    stiffness: float = 0.0  # E A / h of the stiffer side, the penalty's scale
+
+
+def default_penalty(formulation, stiffness, dt, beta=DEFAULT_BETA):
+    """Penalty used when the case gives none.
+
+    "power": k = beta E A / h, a contact spring ``beta`` times as stiff as
+    the stiffer element at the pair.  "seed": eps = 2 k / dt, the seed's
+    penalty with the same slab-mean force per unit penetration (its residual
+    weight I_a carries one more power of time, so eps has units of
+    force / (length time)).  formulation.md section 4 suggests
+    ``beta (E A / h) / dt^2``; that is not dimensionally consistent (the
+    contact stiffness would change with the unit of time), so we use 1/dt.
+    """
+    k = beta * stiffness
+    return k if formulation == "power" else 2.0 * k / dt
+
+
+def gap_coefficients(gn, d1, d2, dt):
+    """Coefficients (a0, a1, a2) of g(theta) = a0 + a1 theta + a2 theta^2."""
+    return gn, -dt * d1, 0.5 * dt * (d1 - d2)
+
+
+def gap_roots(a0, a1, a2):
+    """Real roots of a0 + a1 t + a2 t^2 inside (0, 1), as an (P, 2) array
+    sorted per row, with 1.0 standing for "no root" (it adds an empty piece).
+
+    Uses the cancellation-free pair q / a2, a0 / q; a linear or constant g
+    falls out of the same formulas (infinite or nan roots are discarded).
+    """
+    a0, a1, a2 = (np.atleast_1d(np.asarray(c, dtype=float)) for c in (a0, a1, a2))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        disc = a1 * a1 - 4.0 * a2 * a0
+        sq = np.sqrt(np.where(disc >= 0.0, disc, np.nan))
+        q = -0.5 * (a1 + np.where(a1 >= 0.0, sq, -sq))
+        roots = np.stack([q / a2, a0 / q], axis=-1)
+    inside = np.isfinite(roots) & (roots > 0.0) & (roots < 1.0)
+    return np.sort(np.where(inside, roots, 1.0), axis=-1)
+
+
+def _shape(theta, dt, kind):
+    """Rows (T_1, T_2) or (I_1, I_2) at the points ``theta``."""
+    if kind == "T":
+        return np.stack([1.0 - theta, theta], axis=-1)
+    return dt * np.stack([theta - 0.5 * theta * theta, 0.5 * theta * theta], axis=-1)
+
+
+def contact_integrals(gn, d1, d2, dt, formulation):
+    """Exact penalty integrals of P pairs over one slab.
+
+    Parameters
+    ----------
+    gn, d1, d2 : (P,) arrays
+        Gap at t^n and the gap closing rates ``d^a`` at the two time nodes.
+    dt : float
+    formulation : sequence of str, length P ("seed" or "power")
+
+    Returns
+    -------
+    G : (P, 2)  int_{I_n} min(0, g) phi_a dt
+    W : (P, 2, 2)  int_{active} phi_a I_b dt  (= -dG_a / dd^b)
+    active : (P,) bool, some part of the slab has g < 0
+    """
+    a0, a1, a2 = gap_coefficients(np.asarray(gn, float), np.asarray(d1, float),
+                                  np.asarray(d2, float), dt)
+    r = gap_roots(a0, a1, a2)
+    edges = np.concatenate([np.zeros_like(r[:, :1]), r, np.ones_like(r[:, :1])], axis=1)
+    lo, length = edges[:, :-1], np.diff(edges, axis=1)                  # (P, 3)
+    mid = lo + 0.5 * length
+    gmid = a0[:, None] + mid * (a1[:, None] + mid * a2[:, None])
+    on = (gmid < 0.0) & (length > 0.0)
+    theta = lo[..., None] + length[..., None] * GAUSS_X                 # (P, 3, 3)
+    w = dt * (length * on)[..., None] * GAUSS_W                          # dt dtheta
+    g = a0[:, None, None] + theta * (a1[:, None, None] + theta * a2[:, None, None])
+    power = (np.asarray(formulation) == "power")[:, None, None, None]
+    ib = _shape(theta, dt, "I")                                          # (P, 3, 3, 2)
+    phi = np.where(power, _shape(theta, dt, "T"), ib)
+    G = np.einsum("pij,pija->pa", w * g, phi)
+    W = np.einsum("pij,pija,pijb->pab", w, phi, ib)
+    return G, W, on.any(axis=1)
+
+
+def gap_at_end(gn, d1, d2, dt):
+    """g(theta = 1) = g^n - dt/2 (d^1 + d^2)."""
+    return gn - 0.5 * dt * (d1 + d2)

@@ -1,0 +1,70 @@
+"""The result file (HDF5, layout of docs/result-file.md).  Written by rank 0
+only; every kept slab is appended and flushed as it is computed."""
+
+import h5py
+import numpy as np
+
+from vstpetsc import __version__
+
+
+class ResultWriter:
+    """Appends kept slabs to an HDF5 file.
+
+    Parameters
+    ----------
+    path : str
+    bodies : list of (name, x_nodes, n_elements)
+    contacts : list of dict of attributes per pair
+    attrs : dict of root attributes (status is set here)
+    """
+
+    def __init__(self, path, bodies, contacts, attrs):
+        self.f = h5py.File(path, "w")
+        self.n = 0
+        f = self.f
+        f.attrs["status"] = "running"
+        f.attrs["version"] = __version__
+        for k, v in attrs.items():
+            f.attrs[k] = v
+        self.series = {}
+        self._series("time", ())
+        for name, x, ne in bodies:
+            g = f.create_group(f"body/{name}")
+            g.create_dataset("x", data=x)
+            for key, width in (("u", x.size), ("v", x.size), ("stress", ne)):
+                self._series(f"body/{name}/{key}", (width,))
+        for k, meta in enumerate(contacts):
+            g = f.require_group(f"contact/{k}")
+            for key, val in meta.items():
+                g.attrs[key] = val
+            for key in ("gap", "force", "impulse"):
+                self._series(f"contact/{k}/{key}", ())
+        for key in ("energy/kinetic", "energy/strain", "solver/newton_iterations",
+                    "solver/linear_iterations", "solver/wall_time"):
+            self._series(key, ())
+        f.require_group("contact")
+        f.flush()
+
+    def _series(self, name, tail):
+        width = int(np.prod(tail)) if tail else 1
+        rows = max(1, min(4096, 65536 // width))
+        dtype = "i8" if name.startswith("solver/") and "iterations" in name else "f8"
+        self.series[name] = self.f.create_dataset(
+            name, shape=(0,) + tail, maxshape=(None,) + tail, chunks=(rows,) + tail,
+            dtype=dtype)
+
+    def append(self, row):
+        """Append one kept time; ``row`` maps every series name to its value."""
+        n = self.n + 1
+        for name, ds in self.series.items():
+            ds.resize(n, axis=0)
+            ds[n - 1] = row[name]
+        self.n = n
+        self.f.flush()
+
+    def close(self, status, **attrs):
+        self.f.attrs["status"] = status
+        for k, v in attrs.items():
+            self.f.attrs[k] = v
+        self.f.flush()
+        self.f.close()

@@ -1,0 +1,259 @@
+"""Running a case: the model in mesh terms, the time loop, progress and the
+result file.  Collective over the ranks of ``comm``."""
+
+import sys
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc import mesh
+from vstpetsc.contact import ContactPair, default_penalty, gap_at_end
+from vstpetsc.output import ResultWriter
+from vstpetsc.solver import SlabSolver, SolveFailed
+
+
+@dataclass
+class Model:
+    """A case in mesh terms."""
+
+    case: object
+    layout: mesh.Layout
+    pairs: list
+    dirichlet: list      # (dofs (2,), History or None for fixed)
+    tractions: list      # (dof pair (2,), History, area)
+
+    @property
+    def dirichlet_dofs(self):
+        return np.concatenate([d for d, _ in self.dirichlet]) if self.dirichlet else \
+            np.zeros(0, dtype=int)
+
+
+def build_model(case):
+    """Mesh the bodies and translate contacts and boundary conditions."""
+    layout = mesh.build_layout(case.bodies)
+    stiff = layout.E * layout.A / layout.h
+    body_stiff = np.array([stiff[layout.elem_body == b].max()
+                           for b in range(len(case.bodies))])
+    pairs = []
+    for c in case.contacts:
+        nodes, signs, ks = [], [], []
+        if c.left is not None:
+            nodes.append(layout.right_node(c.left))
+            signs.append(1.0)
+            ks.append(body_stiff[c.left])
+        if c.right is not None:
+            nodes.append(layout.left_node(c.right))
+            signs.append(-1.0)
+            ks.append(body_stiff[c.right])
+        if c.left is None:
+            g0 = case.bodies[c.right].x[0] - c.wall
+        elif c.right is None:
+            g0 = c.wall - case.bodies[c.left].x[1]
+        else:
+            g0 = case.bodies[c.right].x[0] - case.bodies[c.left].x[1]
+        k = max(ks)
+        pen = c.penalty if c.penalty is not None else \
+            default_penalty(c.formulation, k, case.dt)
+        pairs.append(ContactPair(tuple(nodes), tuple(signs), g0, pen, c.formulation, k))
+    dirichlet, tractions = [], []
+    for bc in case.bcs:
+        node = layout.end_node(bc.body, bc.end)
+        dofs = np.array([2 * node, 2 * node + 1])
+        if bc.type == "fixed":
+            dirichlet.append((dofs, None))
+        elif bc.type == "velocity":
+            dirichlet.append((dofs, bc.value))
+        else:
+            tractions.append((dofs, bc.value, case.bodies[bc.body].area))
+    return Model(case, layout, pairs, dirichlet, tractions)
+
+
+def initial_state(model):
+    """Nodal u0 and v0 from the bodies' profiles."""
+    lay = model.layout
+    u, v = np.zeros(lay.nnodes), np.zeros(lay.nnodes)
+    for b, body in enumerate(model.case.bodies):
+        sl = slice(lay.first[b], lay.first[b + 1])
+        u[sl], v[sl] = body.u0(lay.x[sl]), body.v0(lay.x[sl])
+    return u, v
+
+
+def slab_loads(model, t0, t1):
+    """((force dofs, values), (Dirichlet dofs, values)) of the slab (t0, t1]."""
+    fd = [d for d, _, _ in model.tractions]
+    fv = [area * h.hat_integrals(t0, t1) for _, h, area in model.tractions]
+    dd = [d for d, _ in model.dirichlet]
+    dv = [np.zeros(2) if h is None else h(np.array([t0, t1])) for _, h in model.dirichlet]
+
+    def cat(parts):
+        return np.concatenate(parts) if parts else np.zeros(0)
+    return ((cat(fd).astype(int), cat(fv)), (cat(dd).astype(int), cat(dv)))
+
+
+def pair_gaps(model, u):
+    """Gap of every pair for nodal displacements u."""
+    return np.array([p.g0 - sum(s * u[n] for n, s in zip(p.nodes, p.signs))
+                     for p in model.pairs])
+
+
+def pair_meta(model):
+    names = [b.name for b in model.case.bodies]
+    out = []
+    for c, p in zip(model.case.contacts, model.pairs):
+        left = "wall" if c.left is None else names[c.left]
+        right = "wall" if c.right is None else names[c.right]
+        out.append({"pair": f"{left},{right}", "formulation": p.formulation,
+                    "penalty": p.penalty, "initial_gap": p.g0,
+                    "wall": np.nan if c.wall is None else c.wall})
+    return out
+
+
+def formulation_attr(model):
+    forms = sorted({p.formulation for p in model.pairs})
+    return ",".join(forms) if forms else "none"
+
+
+class Progress:
+    """A progress line on a stream, rewritten at most twice a second."""
+
+    def __init__(self, total, stream):
+        self.total, self.stream = total, stream
+        self.start = time.perf_counter()
+        self.last = -1.0
+
+    def update(self, k, t, force=False):
+        now = time.perf_counter()
+        if self.stream is None or (not force and now - self.last < 0.5):
+            return
+        self.last = now
+        el = now - self.start
+        eta = el / k * (self.total - k) if k else float("nan")
+        self.stream.write(f"\rslab {k}/{self.total}  t = {t:.6g}  elapsed {el:.1f} s"
+                          f"  ETA {eta:.1f} s   ")
+        self.stream.flush()
+
+    def done(self):
+        if self.stream is not None:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+@dataclass
+class RunResult:
+    status: str
+    slabs: int
+    wall: float
+    energy0: float
+    energy1: float
+    message: str = ""
+
+
+def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=None,
+        out=sys.stdout, err=sys.stderr):
+    """Solve ``case`` and write the result file.
+
+    Raises :class:`vstpetsc.solver.SolveFailed` (after closing the file with
+    status "failed") when a slab cannot be solved.
+    """
+    comm = comm or PETSc.COMM_WORLD
+    rank0 = comm.getRank() == 0
+    model = build_model(case)
+    lay = model.layout
+    t_start = time.perf_counter()
+    solver = SlabSolver(lay, case.dt, model.dirichlet_dofs, model.pairs, comm=comm,
+                        ownership=ownership)
+    u, v = initial_state(model)
+    solver.set_state(u, v)
+    talk = rank0 and not quiet
+    if talk:
+        _header(out, case, model, solver, comm.getSize())
+    writer = None
+    if rank0:
+        bodies = [(b.name, lay.x[lay.first[i]:lay.first[i + 1]], b.elements)
+                  for i, b in enumerate(case.bodies)]
+        writer = ResultWriter(output_path, bodies, pair_meta(model), {
+            "case": case.text, "petsc_options": petsc_options,
+            "mpi_size": comm.getSize(), "formulation": formulation_attr(model),
+            "dt": case.dt, "slabs": case.nslabs, "every": case.every,
+            "solver": solver.describe()})
+    energy0 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
+    _record(writer, model, 0.0, u, v, np.zeros(len(model.pairs)), (0, 0), case.dt, 0.0)
+    progress = Progress(case.nslabs, err if talk else None)
+    n = case.nslabs
+    energy1, k = energy0, 0
+    try:
+        for k in range(1, n + 1):
+            t0, t1 = (k - 1) * case.dt, k * case.dt
+            forces, dirichlet = slab_loads(model, t0, t1)
+            solver.rhs(forces, dirichlet)
+            its = solver.solve(k)
+            keep = k % case.every == 0 or k == n
+            impulses = solver.impulses() if keep and model.pairs else None
+            solver.advance()
+            if keep:
+                state = solver.gather_state()
+                if rank0:
+                    u, v = state
+                    energy1 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
+                    _record(writer, model, t1, u, v, impulses, its, case.dt,
+                            time.perf_counter() - t_start)
+            progress.update(k, t1, force=k == n)
+    except SolveFailed as exc:
+        progress.done() if talk else None
+        if writer:
+            writer.close("failed", message=str(exc), slabs_done=k - 1)
+        raise
+    wall = time.perf_counter() - t_start
+    if talk:
+        progress.done()
+    if writer:
+        writer.close("completed", slabs_done=n, wall_time=wall)
+    result = RunResult("completed", n, wall, energy0, energy1)
+    if rank0:
+        rel = (energy1 - energy0) / energy0 if energy0 else float("nan")
+        out.write(f"completed {n} slabs in {wall:.2f} s ({1e3 * wall / n:.3f} ms/slab); "
+                  f"energy {energy0:.6g} -> {energy1:.6g} ({100 * rel:+.3f} %); "
+                  f"result: {output_path}\n")
+        out.flush()
+    return result
+
+
+def _record(writer, model, t, u, v, impulses, its, dt, wall):
+    if writer is None:
+        return
+    lay = model.layout
+    row = {"time": t, "energy/kinetic": mesh.kinetic_energy(lay, v),
+           "energy/strain": mesh.strain_energy(lay, u),
+           "solver/newton_iterations": its[0], "solver/linear_iterations": its[1],
+           "solver/wall_time": wall}
+    stress = mesh.element_stress(lay, u)
+    for b, body in enumerate(model.case.bodies):
+        sl = slice(lay.first[b], lay.first[b + 1])
+        row[f"body/{body.name}/u"] = u[sl]
+        row[f"body/{body.name}/v"] = v[sl]
+        row[f"body/{body.name}/stress"] = stress[lay.elem_body == b]
+    gaps = pair_gaps(model, u)
+    for p in range(len(model.pairs)):
+        row[f"contact/{p}/gap"] = gaps[p]
+        row[f"contact/{p}/impulse"] = impulses[p]
+        row[f"contact/{p}/force"] = impulses[p] / dt
+    writer.append(row)
+
+
+def _header(out, case, model, solver, size):
+    lay = model.layout
+    out.write(f"vstpetsc: {case.source}\n"
+              f"  {len(case.bodies)} bodies, {lay.nnodes} nodes, {lay.elem_node.size} "
+              f"elements; dt = {case.dt:g}, {case.nslabs} slabs to t = "
+              f"{case.nslabs * case.dt:g}; keep every {case.every}\n"
+              f"  solver: {solver.describe()} on {size} rank{'s' if size > 1 else ''}\n")
+    names = [b.name for b in case.bodies]
+    for k, (c, p) in enumerate(zip(case.contacts, model.pairs)):
+        left = "wall" if c.left is None else names[c.left]
+        right = "wall" if c.right is None else names[c.right]
+        given = "given" if c.penalty is not None else "default"
+        out.write(f"  contact[{k}] {left} | {right}: gap {p.g0:g}, {p.formulation} "
+                  f"penalty {p.penalty:.6g} ({given})\n")
+    out.flush()
