@@ -233,8 +233,7 @@ def parse_case(text, source="<case>"):
         chk.add("output.path", "must not be empty")
     every = chk.integer(out, "every", "output", required=False, default=1)
 
-    bodies = _bodies(chk, doc)
-    names = {b.name: i for i, b in enumerate(bodies) if b is not None}
+    bodies, names = _bodies(chk, doc)
     contacts = _contacts(chk, doc, bodies, names)
     bcs = _bcs(chk, doc, names, contacts)
 
@@ -258,7 +257,7 @@ def _bodies(chk, doc):
     tables = _array_of_tables(chk, doc, "body")
     if not tables and "body" not in doc:
         chk.add("body", "at least one [[body]] table is required")
-    bodies, seen = [], {}
+    bodies, seen, names = [], {}, {}
     allowed = ("name", "x", "elements", "E", "rho", "area", "v0", "u0")
     for i, tbl in enumerate(tables):
         where = f"body[{i}]"
@@ -295,6 +294,8 @@ def _bodies(chk, doc):
         v0 = chk.history(tbl, "v0", where, "x")
         u0 = chk.history(tbl, "u0", where, "x")
         fields = (name, x, ne, E, rho, area, v0, u0)
+        if name is not None and name != WALL:
+            names.setdefault(name, i)
         bodies.append(None if any(f is None for f in fields) or name == WALL
                       else Body(name, x, ne, E, rho, area, v0, u0))
     good = [(i, b) for i, b in enumerate(bodies) if b is not None]
@@ -303,7 +304,7 @@ def _bodies(chk, doc):
             chk.add(f"body[{j}] ({b.name}).x",
                     f"overlaps or precedes body[{i}] ({a.name}) ending at {a.x[1]:g}; "
                     f"bodies must be listed left to right without overlap")
-    return bodies
+    return bodies, names
 
 
 def _contacts(chk, doc, bodies, names):
@@ -332,6 +333,8 @@ def _contacts(chk, doc, bodies, names):
         if a == WALL and b == WALL:
             chk.add(f"{where}.pair", "needs at least one body")
             continue
+        if any(p != WALL and bodies[names[p]] is None for p in pair):
+            continue    # that body's own problem is reported already
         wall = None
         if WALL in pair:
             wall = chk.number(tbl, "wall", where)

@@ -1,0 +1,148 @@
+"""The numpy kernels, checked without PETSc."""
+
+import numpy as np
+import pytest
+from scipy import integrate
+
+from vstpetsc import slab
+from vstpetsc.case import Body
+from vstpetsc.contact import contact_integrals, gap_coefficients, gap_roots
+from vstpetsc.history import History
+from vstpetsc.mesh import band_mult, build_layout
+
+
+def dense(layout):
+    M = np.diag(layout.m_diag) + np.diag(layout.m_off, 1) + np.diag(layout.m_off, -1)
+    K = np.diag(layout.k_diag) + np.diag(layout.k_off, 1) + np.diag(layout.k_off, -1)
+    return M, K
+
+
+def two_bodies():
+    return build_layout([Body("a", (0.0, 1.0), 4, 2.0, 3.0, 0.5),
+                         Body("b", (1.5, 2.0), 3, 7.0, 1.0, 2.0)])
+
+
+def test_mass_and_stiffness_bands():
+    lay = two_bodies()
+    M, K = dense(lay)
+    # mass of each body is rho A L, rigid motions carry no strain energy
+    ones = np.ones(lay.nnodes)
+    assert np.isclose(ones[:5] @ M[:5, :5] @ ones[:5], 3.0 * 0.5 * 1.0)
+    assert np.isclose(ones[5:] @ M[5:, 5:] @ ones[5:], 1.0 * 2.0 * 0.5)
+    assert np.allclose(K @ ones, 0.0)
+    assert M[4, 5] == 0.0 and K[4, 5] == 0.0   # no element joins two bodies
+    u = np.random.default_rng(0).normal(size=lay.nnodes)
+    assert np.allclose(band_mult(lay.m_diag, lay.m_off, u), M @ u)
+
+
+def test_slab_matrix_is_kronecker_form_and_csr_matches():
+    lay = two_bodies()
+    M, K = dense(lay)
+    dt = 0.3
+    n = lay.nnodes
+    # interleaved per node: dof 2i + a
+    A = np.kron(M, slab.HM) + dt ** 2 * np.kron(K, slab.HK)
+    blocks = slab.slab_matrix(lay, dt)
+    indptr, indices, data = slab.block_rows_csr(blocks, 0, n)
+    B = np.zeros((2 * n, 2 * n))
+    for r in range(2 * n):
+        B[r, indices[indptr[r]:indptr[r + 1]]] = data[indptr[r]:indptr[r + 1]]
+    assert np.allclose(A, B)
+    # a slice of rows gives the same rows
+    i2, j2, d2 = slab.block_rows_csr(blocks, 3, 6)
+    assert np.array_equal(j2, indices[indptr[6]:indptr[12]])
+    assert np.allclose(d2, data[indptr[6]:indptr[12]])
+
+
+def test_time_matrices_from_shape_functions():
+    # HM = int T_a dT_b/dtheta + jump at theta = 0; HK = int T_a I_b / dt^2
+    T = [lambda s: 1 - s, lambda s: s]
+    Ih = [lambda s: s - s * s / 2, lambda s: s * s / 2]
+    dT = [-1.0, 1.0]
+    for a in range(2):
+        for b in range(2):
+            hm = integrate.quad(lambda s: T[a](s) * dT[b], 0, 1)[0] + (a == 0) * T[b](0)
+            hk = integrate.quad(lambda s: T[a](s) * Ih[b](s), 0, 1)[0]
+            assert np.isclose(slab.HM[a, b], hm)
+            assert np.isclose(slab.HK[a, b], hk)
+
+
+@pytest.mark.parametrize("coef,expected", [
+    ((1.0, -4.0, 3.0), [1 / 3]),          # roots 1/3 and 1 (1 is the slab end)
+    ((0.02, -0.3, 1.0), [0.1, 0.2]),
+    ((1.0, 0.0, 1.0), []),                # no real root
+    ((0.5, -1.0, 0.0), [0.5]),            # linear
+    ((-1.0, 0.0, 0.0), []),               # constant
+    ((1e-12, -1.0, 1e-14), [1e-12]),      # cancellation-prone
+])
+def test_gap_roots(coef, expected):
+    r = gap_roots(*coef)[0]
+    got = r[r < 1.0]
+    assert np.allclose(got, expected, rtol=1e-10, atol=0)
+
+
+def _quad_reference(gn, d1, d2, dt, form):
+    a0, a1, a2 = gap_coefficients(gn, d1, d2, dt)
+    g = lambda s: a0 + a1 * s + a2 * s * s
+    I = [lambda s: dt * (s - s * s / 2), lambda s: dt * s * s / 2]
+    T = [lambda s: 1 - s, lambda s: s]
+    phi = T if form == "power" else I
+    opts = dict(points=[r for r in gap_roots(a0, a1, a2)[0] if r < 1], limit=200,
+                epsabs=0, epsrel=1e-13)
+    G = [dt * integrate.quad(lambda s: min(0.0, g(s)) * phi[a](s), 0, 1, **opts)[0]
+         for a in range(2)]
+    W = [[dt * integrate.quad(lambda s: (g(s) < 0) * phi[a](s) * I[b](s), 0, 1,
+                              **opts)[0] for b in range(2)] for a in range(2)]
+    return np.array(G), np.array(W)
+
+
+@pytest.mark.parametrize("form", ["seed", "power"])
+def test_contact_integrals_exact_and_tangent_matches_finite_differences(form, rng):
+    dt = 0.1
+    for _ in range(40):
+        gn = rng.uniform(-0.05, 0.05)
+        d1, d2 = rng.uniform(-1, 1, size=2)
+        G, W, active = contact_integrals([gn], [d1], [d2], dt, [form])
+        Gr, Wr = _quad_reference(gn, d1, d2, dt, form)
+        assert np.allclose(G[0], Gr, rtol=1e-9, atol=1e-15)
+        assert np.allclose(W[0], Wr, rtol=1e-8, atol=1e-15)
+        assert active[0] == bool(np.any(G[0] != 0))
+        # W = -dG/dd: central differences
+        h = 1e-7
+        for b in range(2):
+            dp, dm = np.array([d1, d2]), np.array([d1, d2])
+            dp[b] += h
+            dm[b] -= h
+            fd = (contact_integrals([gn], [dp[0]], [dp[1]], dt, [form])[0][0]
+                  - contact_integrals([gn], [dm[0]], [dm[1]], dt, [form])[0][0]) / (2 * h)
+            assert np.allclose(-fd, W[0][:, b], rtol=1e-5, atol=1e-12)
+
+
+def test_contact_integrals_vectorised_over_pairs(rng):
+    gn, d1, d2 = rng.uniform(-0.05, 0.05, 7), rng.uniform(-1, 1, 7), rng.uniform(-1, 1, 7)
+    forms = ["seed", "power", "seed", "power", "power", "seed", "seed"]
+    G, W, active = contact_integrals(gn, d1, d2, 0.1, forms)
+    for p in range(7):
+        Gp, Wp, ap = contact_integrals(gn[p:p + 1], d1[p:p + 1], d2[p:p + 1], 0.1, forms[p:p + 1])
+        assert np.allclose(G[p], Gp[0]) and np.allclose(W[p], Wp[0]) and active[p] == ap[0]
+
+
+def test_power_impulse_is_time_integral_of_force():
+    # sum_a T_a = 1: the power variant's impulse is exactly int k max(0, -g) dt
+    dt, gn, d1, d2 = 0.2, 0.01, 0.3, -0.1
+    G, _, _ = contact_integrals([gn], [d1], [d2], dt, ["power"])
+    a0, a1, a2 = gap_coefficients(gn, d1, d2, dt)
+    ref = dt * integrate.quad(lambda s: min(0.0, a0 + a1 * s + a2 * s * s), 0, 1,
+                              points=[r for r in gap_roots(a0, a1, a2)[0] if r < 1])[0]
+    assert np.isclose(G[0].sum(), ref, rtol=1e-12)
+
+
+def test_history_hat_integrals_exact():
+    h = History([[0.0, 0.0], [0.013, 2.0], [0.031, -1.0], [0.05, 0.5]])
+    for t0, t1 in [(0.0, 0.01), (0.005, 0.04), (0.03, 0.07), (0.06, 0.08)]:
+        ref = [integrate.quad(lambda t: h(t) * (t1 - t) / (t1 - t0), t0, t1,
+                              points=h.t, epsrel=1e-13)[0],
+               integrate.quad(lambda t: h(t) * (t - t0) / (t1 - t0), t0, t1,
+                              points=h.t, epsrel=1e-13)[0]]
+        assert np.allclose(h.hat_integrals(t0, t1), ref, rtol=1e-11, atol=1e-15)
+    assert np.allclose(History(value=3.0).hat_integrals(1.0, 1.5), [0.75, 0.75])
