@@ -149,6 +149,7 @@ class SlabSolver:
             pc.setFactorSolverType("petsc")
             pc.setFactorOrdering("rcm")
         snes.setFromOptions()      # the command line wins over the defaults above
+        self.fd_jacobian = PETSc.Options().getBool("vst_fd_jacobian", False)
         ksp.setOperators(self.J, self.A)
         ksp.setUp()                # factors A once
         self.snes, self.ksp, self.pc = snes, ksp, pc
@@ -175,6 +176,8 @@ class SlabSolver:
             np.add.at(f, self.pair_local[own], vals.ravel()[own])
 
     def formJacobian(self, snes, X, J, P):
+        if self.fd_jacobian:
+            return self._fd_jacobian(X, J)
         if self.local_pairs:
             _, W, _ = self._contact(X)
             # dR_{n_k}^a / dv_{n_l}^b = c_k c_l w W_ab  (pairs are few: not a per-node loop)
@@ -182,6 +185,28 @@ class SlabSolver:
                 if own.any():
                     block = np.kron(cc, self.pair_w[i] * W[i])
                     J.setValues(dofs[own], dofs, a_vals + block[own])
+        J.assemble()
+
+    def _fd_jacobian(self, X, J):
+        """Columns of the pair dofs by central differences of formFunction
+        (the cross-check of the hand-written tangent, -vst_fd_jacobian).
+        Every other column of J is A's, and contact only touches these."""
+        n0, n1 = self.nodes
+        dofs = sorted({2 * k + a for p in self.pairs for k in p.nodes for a in (0, 1)})
+        Xp, Fp, Fm = X.copy(), self.F.duplicate(), self.F.duplicate()
+        h = 1e-7 * max(1.0, X.norm(PETSc.NormType.INFINITY))
+        for j in dofs:
+            for sign, out in ((1.0, Fp), (-1.0, Fm)):
+                X.copy(Xp)
+                if n0 <= j // 2 < n1:
+                    Xp.setValue(j, sign * h, addv=PETSc.InsertMode.ADD_VALUES)
+                Xp.assemble()
+                self.formFunction(self.snes, Xp, out)
+            node = j // 2
+            rows = np.arange(2 * max(node - 1, n0), 2 * min(node + 2, n1), dtype=PETSc.IntType)
+            if rows.size:
+                col = (Fp.getArray(readonly=True) - Fm.getArray(readonly=True)) / (2 * h)
+                J.setValues(rows, [j], col[rows - 2 * n0][:, None])
         J.assemble()
 
     def rhs(self, forces, dirichlet):

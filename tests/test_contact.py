@@ -1,0 +1,202 @@
+"""Penalty contact against the exact solutions of formulation.md section 7
+(c = sqrt(E/rho), Z = rho c A), for both formulations."""
+
+import numpy as np
+import pytest
+from petsc4py import PETSc
+
+from conftest import body, cli, run_text, table, time_table, Result
+from vstpetsc.case import Body
+from vstpetsc.mesh import build_layout
+
+FORMS = ["seed", "power"]
+NE, DT = 50, 0.01          # h = 0.02 for L = 1: dt = c dt / h = 0.5
+G0, V0 = 0.1, 1.0
+
+
+def phase(r, k=0):
+    """(start, end, impulse) of the contact phase of pair k, from slab impulses."""
+    t, J = r["time"], r[f"contact/{k}/impulse"]
+    on = np.nonzero(J > 0)[0]
+    return t[on[0] - 1], t[on[-1]], J.sum()
+
+
+def momentum(r, name, E=1.0, rho=1.0, L=1.0, ne=NE, area=1.0, x0=0.0):
+    lay = build_layout([Body(name, (x0, x0 + L), ne, E, rho, area)])
+    lumped = lay.m_diag + np.r_[lay.m_off, 0] + np.r_[0, lay.m_off]
+    return r[f"body/{name}/v"] @ lumped
+
+
+def check_iterations(r, k=0):
+    newton, J = r["solver/newton_iterations"], r[f"contact/{k}/impulse"]
+    assert newton.max() <= 10
+    assert np.all(newton[J == 0] == 0)     # no contact: the linear solve alone
+
+
+def energy(r):
+    return r["energy/kinetic"] + r["energy/strain"]
+
+
+@pytest.mark.parametrize("form", FORMS)
+@pytest.mark.parametrize("side", ["right", "left"])
+def test_bar_against_rigid_wall(tmp_path, form, side):
+    if side == "right":
+        text = (time_table(DT, 3.0) + body("bar", (0.0, 1.0), NE, E=1.0, rho=1.0, v0=V0)
+                + table("contact", pair=["bar", "wall"], wall=1.0 + G0, formulation=form))
+    else:
+        text = (time_table(DT, 3.0) + body("bar", (0.0, 1.0), NE, E=1.0, rho=1.0, v0=-V0)
+                + table("contact", pair=["wall", "bar"], wall=-G0, formulation=form))
+    r = run_text(tmp_path, text)
+    start, end, J = phase(r)
+    Z, c = 1.0, 1.0
+    print(f"{form} {side}: start {start:.4f} (exact {G0 / V0}), duration {end - start:.4f} "
+          f"(exact 2), mean force / Z v0 = {J / (end - start) / (Z * V0):.5f}, "
+          f"v after / v0 = {momentum(r, 'bar')[-1] / V0:.5f}, "
+          f"energy after / before = {energy(r)[-1] / energy(r)[0]:.5f}")
+    assert abs(start - G0 / V0) <= 2 * DT
+    assert abs((end - start) - 2.0 / c) <= 2 * DT
+    assert abs(J / (end - start) - Z * V0) <= 0.03 * Z * V0
+    sign = 1 if side == "right" else -1
+    v_after = momentum(r, "bar")[-1]            # mass 1
+    assert abs(v_after + sign * V0) <= 0.03 * V0
+    assert abs(energy(r)[-1] - energy(r)[0]) <= 0.02 * energy(r)[0]
+    assert np.all(energy(r) <= energy(r)[0] * (1 + 1e-12))
+    check_iterations(r)
+
+
+def two_bars(form, E2=1.0, rho2=1.0, penalty=None, end=3.0, every=1):
+    extra = {} if penalty is None else {"penalty": penalty}
+    return (time_table(DT, end, every) + body("striker", (0.0, 1.0), NE, E=1.0, rho=1.0, v0=V0)
+            + body("target", (1.0 + G0, 2.0 + G0), NE, E=E2, rho=rho2)
+            + table("contact", pair=["striker", "target"], formulation=form, **extra))
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_two_identical_bars(tmp_path, form):
+    r = run_text(tmp_path, two_bars(form))
+    start, end, J = phase(r)
+    p1 = momentum(r, "striker")
+    p2 = momentum(r, "target", x0=1.0 + G0)
+    print(f"{form}: duration {end - start:.4f} (exact 2), force / (Z v0/2) = "
+          f"{J / (end - start) / 0.5:.5f}, striker p {p1[-1]:.5f}, target p {p2[-1]:.5f}")
+    assert abs(start - G0 / V0) <= 2 * DT
+    assert abs((end - start) - 2.0) <= 2 * DT
+    assert abs(J / (end - start) - 0.5 * V0) <= 0.03 * 0.5 * V0
+    assert abs(p1[-1]) <= 0.02 * p1[0]
+    assert abs(p2[-1] - p1[0]) <= 0.02 * p1[0]
+    # the contact impulse acts equally and oppositely: total momentum is exact
+    total = p1 + p2
+    assert np.all(np.abs(total - total[0]) <= 1e-10 * abs(total[0]))
+    assert abs(energy(r)[-1] - energy(r)[0]) <= 0.02 * energy(r)[0]
+    assert np.all(energy(r) <= energy(r)[0] * (1 + 1e-12))
+    check_iterations(r)
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_impedance_mismatch_force_plateau(tmp_path, form):
+    # target: c2 = 2, Z2 = 2; reflected waves return after min(2 L1/c1, 2 L2/c2) = 1
+    r = run_text(tmp_path, two_bars(form, E2=4.0, rho2=1.0, end=1.5))
+    t, F = r["time"], r["contact/0/force"]
+    impact = G0 / V0
+    window = (t > impact + 0.2) & (t <= impact + 0.9)
+    plateau = F[window].mean()
+    exact = 1.0 * 2.0 * V0 / 3.0
+    print(f"{form}: plateau {plateau:.5f}, exact Z1 Z2 v0/(Z1+Z2) = {exact:.5f}")
+    assert abs(plateau - exact) <= 0.03 * exact
+    p = momentum(r, "striker") + momentum(r, "target", E=4.0, x0=1.0 + G0)
+    assert np.all(np.abs(p - p[0]) <= 1e-10 * abs(p[0]))
+
+
+def test_penalty_controls_penetration(tmp_path):
+    base = run_text(tmp_path, two_bars("seed", end=1.5), name="default")
+    eps = base.contact_attrs["0"]["penalty"]
+    stiff = run_text(tmp_path, two_bars("seed", penalty=10 * eps, end=1.5), name="stiff")
+    pen_base, pen_stiff = -base["contact/0/gap"].min(), -stiff["contact/0/gap"].min()
+    print(f"largest penetration: default {pen_base:.3e}, tenfold {pen_stiff:.3e}, "
+          f"1% of v0 L / c = {0.01 * V0:.3e}")
+    assert 0 < pen_stiff < pen_base
+    assert pen_base < 0.01 * V0 * 1.0 / 1.0
+
+
+def test_result_does_not_depend_on_newton_tolerance(tmp_path):
+    base = run_text(tmp_path, two_bars("seed", end=1.5), name="default")
+    opts = PETSc.Options()
+    opts["snes_rtol"] = 1e-14
+    opts["ksp_rtol"] = 1e-15
+    try:
+        tight = run_text(tmp_path, two_bars("seed", end=1.5), name="tight")
+    finally:
+        del opts["snes_rtol"], opts["ksp_rtol"]
+    for key in ("body/striker/u", "body/target/v", "contact/0/force"):
+        scale = np.abs(tight[key]).max()
+        assert np.abs(base[key] - tight[key]).max() <= 1e-8 * scale, key
+
+
+def test_finite_difference_jacobian_gives_the_same_run(tmp_path):
+    base = run_text(tmp_path, two_bars("power", end=1.0), name="analytic")
+    opts = PETSc.Options()
+    opts["vst_fd_jacobian"] = True
+    try:
+        fd = run_text(tmp_path, two_bars("power", end=1.0), name="fd")
+    finally:
+        del opts["vst_fd_jacobian"]
+    scale = np.abs(base["contact/0/force"]).max()
+    assert np.abs(base["contact/0/force"] - fd["contact/0/force"]).max() <= 1e-6 * scale
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_assembled_jacobian_matches_finite_differences(form):
+    """J from formJacobian against differences of formFunction, in a
+    penetrating state of a bar pair and a wall pair."""
+    from vstpetsc.case import parse_case
+    from vstpetsc.run import build_model, initial_state
+    from vstpetsc.solver import SlabSolver
+
+    text = (time_table(0.05, 1.0) + body("a", (0.0, 1.0), 6, E=1.0, rho=1.0, v0=2.0)
+            + body("b", (1.01, 2.0), 5, E=3.0, rho=1.0, v0=-1.0)
+            + table("contact", pair=["a", "b"], formulation=form)
+            + table("contact", pair=["b", "wall"], wall=2.001, formulation=form))
+    model = build_model(parse_case(text))
+    s = SlabSolver(model.layout, 0.05, model.dirichlet_dofs, model.pairs,
+                   comm=PETSc.COMM_SELF)
+    u, v = initial_state(model)
+    s.set_state(u, v)
+    s.rhs((np.zeros(0, int), np.zeros(0)), (np.zeros(0, int), np.zeros(0)))
+    s.solve(1)
+    # a state inside the active region (the converged one), perturbed
+    X = s.X.copy()
+    X.array += 0.01 * np.random.default_rng(1).normal(size=X.array.size)
+    s.formJacobian(s.snes, X, s.J, s.A)
+    n = X.getSize()
+    Jd = s.J.convert("dense").getDenseArray()
+    F0, F1 = X.duplicate(), X.duplicate()
+    h = 1e-7
+    cols = [2 * 6, 2 * 6 + 1, 2 * 7, 2 * 7 + 1, n - 2, n - 1]   # pair dofs
+    for j in cols:
+        Xp, Xm = X.copy(), X.copy()
+        Xp.array[j] += h
+        Xm.array[j] -= h
+        s.formFunction(s.snes, Xp, F0)
+        s.formFunction(s.snes, Xm, F1)
+        fd = (F0.array - F1.array) / (2 * h)
+        assert np.allclose(fd, Jd[:, j], rtol=1e-6, atol=1e-8 * np.abs(Jd).max()), j
+    assert np.abs(Jd - s.A.convert("dense").getDenseArray()).max() > 0   # contact is active
+
+
+def test_forced_solve_failure_exits_3_and_keeps_slabs(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(two_bars("seed", end=1.0))
+    full = cli("run", case, "-o", tmp_path / "full.h5", "--quiet")
+    assert full.returncode == 0, full.stderr
+    p = cli("run", case, "-o", tmp_path / "fail.h5", "--quiet", "-snes_max_it", "1",
+            "-snes_rtol", "1e-15")
+    assert p.returncode == 3, p.stderr
+    assert "Traceback" not in p.stderr
+    failed, ref = Result(tmp_path / "fail.h5"), Result(tmp_path / "full.h5")
+    k = int(np.argmax(ref["solver/newton_iterations"] > 1))   # first slab needing 2 steps
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and f"slab {k}:" in lines[0] and "DIVERGED_MAX_IT" in lines[0]
+    assert failed.attrs["status"] == "failed"
+    assert failed["time"].size == k          # t = 0 and slabs 1 .. k-1
+    assert np.array_equal(failed["body/striker/u"], ref["body/striker/u"][:k])
+    assert np.array_equal(failed["contact/0/force"], ref["contact/0/force"][:k])
