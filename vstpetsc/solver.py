@@ -1,15 +1,23 @@
 """The slab solver on PETSc: a 1-D DMDA over all nodes (2 dof per node), the
-constant slab matrix factored once, and a SNES for slabs with active contact.
+constant slab matrix A factored once per run, and a SNES for slabs with
+active contact.
 
-Per slab: one application of the factors gives the contact-free solution; if
-no pair's gap goes negative anywhere in the slab for it, that is the answer
-(it satisfies the full nonlinear equations exactly).  Otherwise Newton (SNES)
-starts from it, with the Jacobian J = A + contact blocks and the factored A
-as preconditioner of a Krylov method: the contact blocks are a low-rank
-change, so GMRES absorbs them in a few iterations and A is never refactored.
+Per slab: one solve with A's factors gives the contact-free solution; if no
+pair's gap goes negative anywhere in the slab for it, that is the answer (it
+satisfies the full nonlinear equations exactly).  Otherwise Newton (SNES)
+starts from it.  Its Jacobian differs from A only on the few pair dofs E:
+J = A + E C E^T with a small dense block C, so every Newton step is solved
+exactly by a Woodbury update of A's factors (one solve plus k axpys, with
+Z = A^{-1} E computed once), and A is never refactored.
 
 ``formFunction`` and ``formJacobian`` only unwrap vectors and call the numpy
-kernels of :mod:`vstpetsc.contact`.
+kernels of :mod:`vstpetsc.contact`.  Every rank evaluates every pair from an
+all-gather of the pair dofs, so all ranks take the same decisions.
+
+Options: the linear solver reads the usual ``-ksp_*``/``-pc_*`` options, the
+Newton solver ``-snes_*`` (its inner KSP has the prefix ``newton_``), and
+``-vst_fd_jacobian`` replaces the hand-written contact tangent by central
+differences of the residual (a cross-check; slow).
 """
 
 import numpy as np
@@ -17,8 +25,6 @@ from petsc4py import PETSc
 
 from vstpetsc import slab
 from vstpetsc.contact import contact_integrals
-
-DIRECT_PCS = ("lu", "cholesky")
 
 
 class SolveFailed(RuntimeError):
@@ -49,9 +55,8 @@ class SlabSolver:
                  ownership=None):
         self.dt = dt
         self.pairs = pairs
-        n = layout.nnodes
         self.da = PETSc.DMDA().create(
-            dim=1, sizes=(n,), dof=2, stencil_width=1, comm=comm,
+            dim=1, sizes=(layout.nnodes,), dof=2, stencil_width=1, comm=comm,
             ownership_ranges=None if ownership is None else (tuple(ownership),))
         self.da.setUp()
         (n0, n1), = self.da.getRanges()
@@ -61,12 +66,12 @@ class SlabSolver:
                                                     dirichlet_dofs, 1.0))
         self.R = self._matrix(slab.impose_dirichlet(slab.rhs_operator(layout, dt),
                                                     dirichlet_dofs, 0.0))
-        self.J = self.A.duplicate(copy=True)
         self.Y = self.da.createGlobalVec()      # state (u^n, v^{n-})
         self.X = self.da.createGlobalVec()      # slab solution (v^{n+}, v^{(n+1)-})
         self.b = self.X.duplicate()
         self.F = self.X.duplicate()
         self.its = (0, 0)
+        self.linear_its = 0
         self._setup_pairs()
         self._setup_solvers()
 
@@ -83,131 +88,156 @@ class SlabSolver:
         return mat
 
     def _setup_pairs(self):
-        """Pairs touching this rank's nodes, and a scatter of their dofs."""
         n0, n1 = self.nodes
-        mine = [p for p in self.pairs if any(n0 <= k < n1 for k in p.nodes)]
-        self.local_pairs = [self.pairs.index(p) for p in mine]
-        P = len(mine)
+        P = len(self.pairs)
         nodes = np.zeros((P, 2), dtype=int)
         signs = np.zeros((P, 2))
-        for i, p in enumerate(mine):
+        for i, p in enumerate(self.pairs):
             nodes[i, :len(p.nodes)] = p.nodes
-            nodes[i, len(p.nodes):] = p.nodes[0]  # padding, sign 0
+            nodes[i, len(p.nodes):] = p.nodes[0]      # a wall pair: padding with sign 0
             signs[i, :len(p.nodes)] = p.signs
-        self.pair_nodes, self.pair_signs = nodes, signs
-        self.pair_g0 = np.array([p.g0 for p in mine])
-        self.pair_w = np.array([p.penalty for p in mine])
-        self.pair_form = [p.formulation for p in mine]
-        dofs = (2 * nodes[..., None] + np.arange(2)).ravel()            # (P, 2, 2) flat
-        self.pair_dofs = dofs
-        self.pair_owned = (dofs >= 2 * n0) & (dofs < 2 * n1)
-        self.pair_local = dofs - 2 * n0
-        self.gathered = PETSc.Vec().createSeq(dofs.size, comm=PETSc.COMM_SELF)
-        iset = PETSc.IS().createGeneral(dofs.astype(PETSc.IntType), comm=PETSc.COMM_SELF)
+        self.pair_signs = signs
+        self.pair_g0 = np.array([p.g0 for p in self.pairs])
+        self.pair_w = np.array([p.penalty for p in self.pairs])
+        self.pair_form = [p.formulation for p in self.pairs]
+        padded = (2 * nodes[..., None] + np.arange(2)).ravel()         # (P, 2 nodes, 2 dofs)
+        # E: the distinct pair dofs; `slot` maps the padded entries onto them.
+        edofs, self.slot = np.unique(padded, return_inverse=True)
+        self.edofs = edofs.astype(PETSc.IntType)
+        self.eowned = (edofs >= 2 * n0) & (edofs < 2 * n1)
+        self.elocal = edofs[self.eowned] - 2 * n0
+        k = edofs.size
+        self.gathered = PETSc.Vec().createSeq(k, comm=PETSc.COMM_SELF)
+        iset = PETSc.IS().createGeneral(self.edofs, comm=PETSc.COMM_SELF)
         self.pair_scatter = PETSc.Scatter().create(self.X, iset, self.gathered, None)
         self.gn = np.zeros(P)
-        self.has_pairs = len(self.pairs) > 0
-        # Per local pair: its dofs, which of them are owned rows here, and A's
-        # entries in that block, so that J = A + contact block is rewritten
-        # in full at every Jacobian evaluation (no drift, no refactoring).
-        self.pair_blocks = []
-        for p in mine:
-            dofs_p = (2 * np.asarray(p.nodes)[:, None] + np.arange(2)).ravel().astype(PETSc.IntType)
-            own = (dofs_p >= 2 * n0) & (dofs_p < 2 * n1)
-            a_vals = self.A.getValues(dofs_p[own], dofs_p) if own.any() else None
-            self.pair_blocks.append((dofs_p, own, a_vals, np.outer(p.signs, p.signs)))
+        self.C = np.zeros((k, k))        # contact block of the Jacobian on E
+        self.has_pairs = P > 0
 
-    def _gather_pairs(self, vec):
-        """Values of vec at the pair dofs, shaped (P, 2 nodes, 2 dofs)."""
+    def _gather(self, vec):
+        """Values of vec at the pair dofs E, on every rank."""
         self.pair_scatter.scatter(vec, self.gathered, addv=PETSc.InsertMode.INSERT,
                                   mode=PETSc.ScatterMode.FORWARD)
-        return self.gathered.getArray(readonly=True).reshape(-1, 2, 2)
+        return self.gathered.getArray(readonly=True).copy()
 
     def _contact(self, X):
-        """Kernel evaluation for the local pairs at iterate X."""
-        v = self._gather_pairs(X)
+        """Kernel evaluation of all pairs at iterate X: (G, W, active)."""
+        v = self._gather(X)[self.slot].reshape(-1, 2, 2)
         d = np.einsum("pk,pka->pa", self.pair_signs, v)
         return contact_integrals(self.gn, d[:, 0], d[:, 1], self.dt, self.pair_form)
+
+    def _unit(self, e, j):
+        """e = the unit vector of pair dof number j (index into E)."""
+        e.zeroEntries()
+        if self.eowned[j]:
+            e.setValue(self.edofs[j], 1.0)
+        e.assemble()
+        return e
 
     # -- solvers -----------------------------------------------------------
     def _setup_solvers(self):
         comm = self.da.getComm()
-        snes = PETSc.SNES().create(comm=comm)
-        snes.setDM(self.da)
-        snes.setType("newtonls")
-        snes.setFunction(self.formFunction, self.F)
-        snes.setJacobian(self.formJacobian, self.J, self.A)
-        snes.setTolerances(rtol=1e-10, atol=1e-50, stol=1e-14, max_it=30)
-        ksp = snes.getKSP()
-        ksp.setType("gmres")
-        ksp.setTolerances(rtol=1e-12, atol=1e-50, max_it=200)
+        # The linear solver of the slab matrix (options without prefix).
+        ksp = PETSc.KSP().create(comm=comm)
+        ksp.setOperators(self.A, self.A)
+        ksp.setType("preonly")
+        ksp.setTolerances(rtol=1e-12, atol=1e-50, max_it=1000)
         pc = ksp.getPC()
         pc.setType("lu")
         if comm.getSize() > 1:
             pc.setFactorSolverType("mumps")
         else:
             pc.setFactorSolverType("petsc")
-            pc.setFactorOrdering("rcm")
-        snes.setFromOptions()      # the command line wins over the defaults above
+            pc.setFactorOrdering("natural")   # the block band is already optimal
+        ksp.setFromOptions()       # the command line wins over the defaults above
+        ksp.setUp()                # factors A, once per run
+        self.ksp, self.pc = ksp, pc
         self.fd_jacobian = PETSc.Options().getBool("vst_fd_jacobian", False)
-        ksp.setOperators(self.J, self.A)
-        ksp.setUp()                # factors A once
-        self.snes, self.ksp, self.pc = snes, ksp, pc
-        self.direct = pc.getType() in DIRECT_PCS
+        # Newton for slabs with active contact: J = A + E C E^T as a shell,
+        # solved exactly by the Woodbury PC on top of the linear solver.
+        J = PETSc.Mat().createPython(self.A.getSizes(), context=_Jacobian(self), comm=comm)
+        J.setUp()
+        self.J = J
+        snes = PETSc.SNES().create(comm=comm)
+        snes.setDM(self.da)
+        snes.setType("newtonls")
+        snes.setFunction(self.formFunction, self.F)
+        snes.setJacobian(self.formJacobian, J, J)
+        snes.setTolerances(rtol=1e-10, atol=1e-50, stol=1e-14, max_it=30)
+        nk = snes.getKSP()
+        nk.appendOptionsPrefix("newton_")
+        nk.setType("preonly")
+        nk.getPC().setType("python")
+        nk.getPC().setPythonContext(_Woodbury(self))
+        snes.setFromOptions()
+        self.snes = snes
+        if self.has_pairs:
+            self._setup_woodbury()
         ksp.viewFromOptions("-ksp_view")
+
+    def _setup_woodbury(self):
+        """Z = A^{-1} E and S = E^T Z, once per run."""
+        e = self.X.duplicate()
+        self.Z = []
+        for j in range(self.edofs.size):
+            z = self.X.duplicate()
+            self._linear_solve(self._unit(e, j), z)
+            self.Z.append(z)
+        self.S = np.array([self._gather(z) for z in self.Z]).T.copy()
+        self.eye = np.eye(self.edofs.size)
 
     def describe(self):
         """One line naming the linear solver actually in use."""
         pc = self.pc
-        if pc.getType() in DIRECT_PCS:
-            what = f"{pc.getType()} ({pc.getFactorSolverType()})"
-        else:
-            what = pc.getType()
-        return f"{self.ksp.getType()}/{what}, SNES {self.snes.getType()}"
+        what = pc.getType()
+        if what in ("lu", "cholesky", "ilu", "icc"):
+            what = f"{what} ({pc.getFactorSolverType()})"
+        return f"KSP {self.ksp.getType()}, PC {what}; Newton: SNES {self.snes.getType()}"
 
     def formFunction(self, snes, X, F):
         self.A.mult(X, F)
         F.axpy(-1.0, self.b)
-        if self.local_pairs:
+        if self.has_pairs:
             G, _, _ = self._contact(X)
+            # R_{n_k}^a += -c_k w G_a
             vals = -(self.pair_signs * self.pair_w[:, None])[:, :, None] * G[:, None, :]
+            contrib = np.bincount(self.slot, vals.ravel(), minlength=self.edofs.size)
             f = F.getArray()
-            own = self.pair_owned
-            np.add.at(f, self.pair_local[own], vals.ravel()[own])
+            f[self.elocal] += contrib[self.eowned]
 
     def formJacobian(self, snes, X, J, P):
         if self.fd_jacobian:
-            return self._fd_jacobian(X, J)
-        if self.local_pairs:
-            _, W, _ = self._contact(X)
-            # dR_{n_k}^a / dv_{n_l}^b = c_k c_l w W_ab  (pairs are few: not a per-node loop)
-            for i, (dofs, own, a_vals, cc) in enumerate(self.pair_blocks):
-                if own.any():
-                    block = np.kron(cc, self.pair_w[i] * W[i])
-                    J.setValues(dofs[own], dofs, a_vals + block[own])
-        J.assemble()
+            self.C = self._fd_contact_block(X)
+            return
+        _, W, _ = self._contact(X)
+        # dR_{n_k}^a / dv_{n_l}^b = c_k c_l w W_ab, gathered onto the dofs E
+        c = self.pair_signs
+        block = (c[:, :, None, None, None] * c[:, None, None, :, None]
+                 * self.pair_w[:, None, None, None, None] * W[:, None, :, None, :])
+        slot = self.slot.reshape(-1, 2, 2)
+        rows = np.broadcast_to(slot[:, :, :, None, None], block.shape)
+        cols = np.broadcast_to(slot[:, None, None, :, :], block.shape)
+        k = self.edofs.size
+        self.C = np.bincount((rows * k + cols).ravel(), block.ravel(),
+                             minlength=k * k).reshape(k, k)
 
-    def _fd_jacobian(self, X, J):
-        """Columns of the pair dofs by central differences of formFunction
-        (the cross-check of the hand-written tangent, -vst_fd_jacobian).
-        Every other column of J is A's, and contact only touches these."""
-        n0, n1 = self.nodes
-        dofs = sorted({2 * k + a for p in self.pairs for k in p.nodes for a in (0, 1)})
-        Xp, Fp, Fm = X.copy(), self.F.duplicate(), self.F.duplicate()
+    def _fd_contact_block(self, X):
+        """C by central differences of formFunction in the pair dofs."""
+        k = self.edofs.size
+        C = np.zeros((k, k))
+        Xp, Fp, Fm, e = X.copy(), self.F.duplicate(), self.F.duplicate(), X.duplicate()
         h = 1e-7 * max(1.0, X.norm(PETSc.NormType.INFINITY))
-        for j in dofs:
+        for j in range(k):
+            self._unit(e, j)
+            cols = []
             for sign, out in ((1.0, Fp), (-1.0, Fm)):
                 X.copy(Xp)
-                if n0 <= j // 2 < n1:
-                    Xp.setValue(j, sign * h, addv=PETSc.InsertMode.ADD_VALUES)
-                Xp.assemble()
+                Xp.axpy(sign * h, e)
                 self.formFunction(self.snes, Xp, out)
-            node = j // 2
-            rows = np.arange(2 * max(node - 1, n0), 2 * min(node + 2, n1), dtype=PETSc.IntType)
-            if rows.size:
-                col = (Fp.getArray(readonly=True) - Fm.getArray(readonly=True)) / (2 * h)
-                J.setValues(rows, [j], col[rows - 2 * n0][:, None])
-        J.assemble()
+                cols.append(self._gather(out))
+            self.A.mult(e, Fp)
+            C[:, j] = (cols[0] - cols[1]) / (2 * h) - self._gather(Fp)
+        return C
 
     def rhs(self, forces, dirichlet):
         """b = R Y, plus nodal force integrals and prescribed velocities.
@@ -227,20 +257,14 @@ class SlabSolver:
 
     def solve(self, slab_index):
         """Solve the slab for the current b; returns (newton its, linear its)."""
-        if self.local_pairs:   # g^n = g0 - sum_k c_k u_k^n
-            u = self._gather_pairs(self.Y)[:, :, 0]
+        if self.has_pairs:   # g^n = g0 - sum_k c_k u_k^n
+            u = self._gather(self.Y)[self.slot].reshape(-1, 2, 2)[:, :, 0]
             self.gn = self.pair_g0 - np.einsum("pk,pk->p", self.pair_signs, u)
-        if self.direct:
-            self.pc.apply(self.b, self.X)
-            linear = 1
-        else:
-            self.ksp.setOperators(self.A, self.A)
-            self.ksp.solve(self.b, self.X)
-            self._check_ksp(slab_index)
-            linear = self.ksp.getIterationNumber()
-            self.ksp.setOperators(self.J, self.A)
+        self.linear_its = 0
+        self._linear_solve(self.b, self.X, slab_index)
         newton = 0
-        if self.has_pairs and self._any_active():
+        if self.has_pairs and self._contact(self.X)[2].any():
+            self.C[:] = 0.0
             self.snes.solve(None, self.X)
             reason = self.snes.getConvergedReason()
             if reason <= 0:
@@ -249,37 +273,25 @@ class SlabSolver:
                                   f" after {self.snes.getIterationNumber()} Newton "
                                   "iterations)")
             newton = self.snes.getIterationNumber()
-            linear += self.snes.getLinearSolveIterations()
         if not np.isfinite(self.X.norm()):
             raise SolveFailed(f"slab {slab_index}: the solution is not finite")
-        self.its = (newton, linear)
+        self.its = (newton, self.linear_its)
         return self.its
 
-    def _check_ksp(self, slab_index):
+    def _linear_solve(self, b, x, slab_index=None):
+        self.ksp.solve(b, x)
         reason = self.ksp.getConvergedReason()
         if reason < 0:
-            raise SolveFailed(f"slab {slab_index}: linear solve did not converge "
+            where = f"slab {slab_index}: " if slab_index is not None else ""
+            raise SolveFailed(f"{where}linear solve did not converge "
                               f"({_reason_name(PETSc.KSP.ConvergedReason, reason)})")
-
-    def _any_active(self):
-        active = False
-        if self.local_pairs:
-            active = bool(self._contact(self.X)[2].any())
-        return self.da.getComm().tompi4py().allreduce(active, op=_MPI_LOR())
+        self.linear_its += max(1, self.ksp.getIterationNumber())
 
     def impulses(self):
         """Contact impulse J of each pair over the last slab (compressive
-        positive), summed to every rank."""
-        out = np.zeros(len(self.pairs))
-        if self.local_pairs:
-            G, _, _ = self._contact(self.X)
-            J = -self.pair_w * G.sum(axis=1)
-            # a pair evaluated on two ranks is counted by the owner of its first node
-            n0, n1 = self.nodes
-            first = self.pair_nodes[:, 0]
-            keep = (first >= n0) & (first < n1)
-            out[np.asarray(self.local_pairs)[keep]] = J[keep]
-        return self.da.getComm().tompi4py().allreduce(out)
+        positive)."""
+        G, _, _ = self._contact(self.X)
+        return -self.pair_w * G.sum(axis=1)
 
     def advance(self):
         """Y <- (u^n + dt/2 (v^1 + v^2), v^2)."""
@@ -308,6 +320,29 @@ class SlabSolver:
         return y[:, 0].copy(), y[:, 1].copy()
 
 
-def _MPI_LOR():
-    from mpi4py import MPI
-    return MPI.LOR
+class _Jacobian:
+    """Shell matrix y = (A + E C E^T) x for the current contact block C."""
+
+    def __init__(self, solver):
+        self.s = solver
+
+    def mult(self, mat, x, y):
+        s = self.s
+        s.A.mult(x, y)
+        if s.has_pairs and s.C.any():
+            y.getArray()[s.elocal] += (s.C @ s._gather(x))[s.eowned]
+
+
+class _Woodbury:
+    """Exact inverse of A + E C E^T from A's factors:
+    y = z - Z (I + C S)^{-1} C E^T z,  z = A^{-1} r,  Z = A^{-1} E,  S = E^T Z."""
+
+    def __init__(self, solver):
+        self.s = solver
+
+    def apply(self, pc, r, y):
+        s = self.s
+        s._linear_solve(r, y)
+        if s.C.any():
+            alpha = np.linalg.solve(s.eye + s.C @ s.S, s.C @ s._gather(y))
+            y.maxpy(-alpha, s.Z)
