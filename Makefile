@@ -17,7 +17,7 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
 export MPLBACKEND := agg
 
-.PHONY: install demo test bench clean
+.PHONY: install demo test bench clean formulations
 
 install: $(STAMP)
 
@@ -41,3 +41,6 @@ test: install
 
 clean:
 	rm -rf $(VENV) build *.egg-info demo.h5
+
+formulations: install
+	$(PY) docs/compare_formulations.py

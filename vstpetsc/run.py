@@ -200,11 +200,15 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
                     _record(writer, model, t1, u, v, impulses, its, case.dt,
                             time.perf_counter() - t_start)
             progress.update(k, t1, force=k == n)
-    except SolveFailed as exc:
-        progress.done() if talk else None
+    except (SolveFailed, PETSc.Error) as exc:
+        if isinstance(exc, PETSc.Error):   # e.g. an option that breaks a solver
+            last = str(exc).strip().splitlines()[-1].split("]", 1)[-1].strip()
+            exc = SolveFailed(f"slab {k}: PETSc error {exc.ierr}: {last}")
+        if talk:
+            progress.done()
         if writer:
             writer.close("failed", message=str(exc), slabs_done=k - 1)
-        raise
+        raise exc from None
     wall = time.perf_counter() - t_start
     if talk:
         progress.done()
