@@ -29,8 +29,9 @@ def momentum(r, name, E=1.0, rho=1.0, L=1.0, ne=NE, area=1.0, x0=0.0):
     return r[f"body/{name}/v"] @ lumped
 
 
-def check_iterations(r, k=0):
-    newton, J = r["solver/newton_iterations"], r[f"contact/{k}/impulse"]
+def check_iterations(r, pairs=(0,)):
+    newton = r["solver/newton_iterations"]
+    J = sum(r[f"contact/{k}/impulse"] for k in pairs)
     assert newton.max() <= 10
     assert np.all(newton[J == 0] == 0)     # no contact: the linear solve alone
 
@@ -107,6 +108,31 @@ def test_impedance_mismatch_force_plateau(tmp_path, form):
     assert abs(plateau - exact) <= 0.03 * exact
     p = momentum(r, "striker") + momentum(r, "target", E=4.0, x0=1.0 + G0)
     assert np.all(np.abs(p - p[0]) <= 1e-10 * abs(p[0]))
+    check_iterations(r)
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_chain_of_three_bars_passes_the_momentum_on(tmp_path, form):
+    """Two pairs in one case: the striker's momentum goes through the middle
+    bar to the last one, and a wall behind it sends the last bar back."""
+    text = (time_table(DT, 4.5, every=5)
+            + body("a", (0.0, 1.0), NE, E=1.0, rho=1.0, v0=V0)
+            + body("b", (1.0 + G0, 2.0 + G0), NE, E=1.0, rho=1.0)
+            + body("c", (2.0 + 2 * G0, 3.0 + 2 * G0), NE, E=1.0, rho=1.0)
+            + table("contact", pair=["a", "b"], formulation=form)
+            + table("contact", pair=["b", "c"], formulation=form)
+            + table("contact", pair=["c", "wall"], wall=10.0, formulation=form))
+    r = run_text(tmp_path, text)
+    pa = momentum(r, "a")
+    pb = momentum(r, "b", x0=1.0 + G0)
+    pc = momentum(r, "c", x0=2.0 + 2 * G0)
+    total = pa + pb + pc
+    print(f"{form}: final momenta a {pa[-1]:.4f} b {pb[-1]:.4f} c {pc[-1]:.4f}")
+    assert np.all(np.abs(total - total[0]) <= 1e-10 * abs(total[0]))
+    assert abs(pa[-1]) <= 0.03 and abs(pb[-1]) <= 0.03 and abs(pc[-1] - V0) <= 0.03
+    assert np.all(r["contact/2/impulse"] == 0)           # the far wall is never reached
+    assert r["contact/0/impulse"].max() > 0 and r["contact/1/impulse"].max() > 0
+    check_iterations(r, pairs=(0, 1, 2))
 
 
 def test_penalty_controls_penetration(tmp_path):
