@@ -71,17 +71,11 @@ def gap_roots(a0, a1, a2):
     with np.errstate(divide="ignore", invalid="ignore"):
         disc = a1 * a1 - 4.0 * a2 * a0
         sq = np.sqrt(np.where(disc >= 0.0, disc, np.nan))
-        q = -0.5 * (a1 + np.where(a1 >= 0.0, sq, -sq))
-        roots = np.stack([q / a2, a0 / q], axis=-1)
-    inside = np.isfinite(roots) & (roots > 0.0) & (roots < 1.0)
-    return np.sort(np.where(inside, roots, 1.0), axis=-1)
-
-
-def _shape(theta, dt, kind):
-    """Rows (T_1, T_2) or (I_1, I_2) at the points ``theta``."""
-    if kind == "T":
-        return np.stack([1.0 - theta, theta], axis=-1)
-    return dt * np.stack([theta - 0.5 * theta * theta, 0.5 * theta * theta], axis=-1)
+        q = -0.5 * (a1 + np.copysign(sq, a1))
+        r1, r2 = q / a2, a0 / q
+    r1 = np.where((r1 > 0.0) & (r1 < 1.0), r1, 1.0)     # nan and inf compare False
+    r2 = np.where((r2 > 0.0) & (r2 < 1.0), r2, 1.0)
+    return np.stack([np.minimum(r1, r2), np.maximum(r1, r2)], axis=-1)
 
 
 def contact_integrals(gn, d1, d2, dt, formulation):
@@ -92,7 +86,8 @@ def contact_integrals(gn, d1, d2, dt, formulation):
     gn, d1, d2 : (P,) arrays
         Gap at t^n and the gap closing rates ``d^a`` at the two time nodes.
     dt : float
-    formulation : sequence of str, length P ("seed" or "power")
+    formulation : (P,) sequence of "seed"/"power", or a boolean array that
+        is True for "power"
 
     Returns
     -------
@@ -100,23 +95,36 @@ def contact_integrals(gn, d1, d2, dt, formulation):
     W : (P, 2, 2)  int_{active} phi_a I_b dt  (= -dG_a / dd^b)
     active : (P,) bool, some part of the slab has g < 0
     """
+    power = np.asarray(formulation)
+    if power.dtype != bool:
+        power = power == "power"
     a0, a1, a2 = gap_coefficients(np.asarray(gn, float), np.asarray(d1, float),
                                   np.asarray(d2, float), dt)
     r = gap_roots(a0, a1, a2)
-    edges = np.concatenate([np.zeros_like(r[:, :1]), r, np.ones_like(r[:, :1])], axis=1)
-    lo, length = edges[:, :-1], np.diff(edges, axis=1)                  # (P, 3)
+    lo = np.concatenate([np.zeros_like(r[:, :1]), r], axis=1)          # (P, 3) pieces
+    length = np.concatenate([r, np.ones_like(r[:, :1])], axis=1) - lo
     mid = lo + 0.5 * length
-    gmid = a0[:, None] + mid * (a1[:, None] + mid * a2[:, None])
-    on = (gmid < 0.0) & (length > 0.0)
-    theta = lo[..., None] + length[..., None] * GAUSS_X                 # (P, 3, 3)
-    w = dt * (length * on)[..., None] * GAUSS_W                          # dt dtheta
-    g = a0[:, None, None] + theta * (a1[:, None, None] + theta * a2[:, None, None])
-    power = (np.asarray(formulation) == "power")[:, None, None, None]
-    ib = _shape(theta, dt, "I")                                          # (P, 3, 3, 2)
-    phi = np.where(power, _shape(theta, dt, "T"), ib)
-    G = np.einsum("pij,pija->pa", w * g, phi)
-    W = np.einsum("pij,pija,pijb->pab", w, phi, ib)
-    return G, W, on.any(axis=1)
+    on = (a0[:, None] + mid * (a1[:, None] + mid * a2[:, None]) < 0.0) & (length > 0.0)
+    active = on.any(axis=1)
+    P = a0.size
+    G, W = np.zeros((P, 2)), np.zeros((P, 2, 2))
+    if not active.any():
+        return G, W, active
+    # Gauss points of all pieces, flattened per pair: (P, 9); weights are dt dtheta
+    theta = (lo[..., None] + length[..., None] * GAUSS_X).reshape(P, -1)
+    w = (dt * (length * on)[..., None] * GAUSS_W).reshape(P, -1)
+    g = a0[:, None] + theta * (a1[:, None] + theta * a2[:, None])
+    half = 0.5 * theta * theta
+    i1, i2 = dt * (theta - half), dt * half
+    pw = power[:, None]
+    phi1 = np.where(pw, 1.0 - theta, i1)
+    phi2 = np.where(pw, theta, i2)
+    wg = w * g
+    G[:, 0], G[:, 1] = (wg * phi1).sum(axis=1), (wg * phi2).sum(axis=1)
+    w1, w2 = w * phi1, w * phi2
+    W[:, 0, 0], W[:, 0, 1] = (w1 * i1).sum(axis=1), (w1 * i2).sum(axis=1)
+    W[:, 1, 0], W[:, 1, 1] = (w2 * i1).sum(axis=1), (w2 * i2).sum(axis=1)
+    return G, W, active
 
 
 def gap_at_end(gn, d1, d2, dt):

@@ -49,16 +49,23 @@ class ResultWriter:
         width = int(np.prod(tail)) if tail else 1
         rows = max(1, min(4096, 65536 // width))
         dtype = "i8" if name.startswith("solver/") and "iterations" in name else "f8"
-        self.series[name] = self.f.create_dataset(
+        ds = self.f.create_dataset(
             name, shape=(0,) + tail, maxshape=(None,) + tail, chunks=(rows,) + tail,
             dtype=dtype)
+        # h5py's high-level resize and item assignment cost ~200 us per call;
+        # the low-level calls below, with a cached memory space, a tenth.
+        self.series[name] = (ds.id, tail, np.dtype(dtype),
+                             h5py.h5s.create_simple((1,) + tail))
 
     def append(self, row):
         """Append one kept time; ``row`` maps every series name to its value."""
         n = self.n + 1
-        for name, ds in self.series.items():
-            ds.resize(n, axis=0)
-            ds[n - 1] = row[name]
+        for name, (dsid, tail, dtype, mspace) in self.series.items():
+            dsid.set_extent((n,) + tail)
+            fspace = dsid.get_space()
+            fspace.select_hyperslab((n - 1,) + (0,) * len(tail), (1,) + tail)
+            data = np.ascontiguousarray(row[name], dtype=dtype).reshape((1,) + tail)
+            dsid.write(mspace, fspace, data)
         self.n = n
         self.f.flush()
 

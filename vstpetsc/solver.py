@@ -99,7 +99,7 @@ class SlabSolver:
         self.pair_signs = signs
         self.pair_g0 = np.array([p.g0 for p in self.pairs])
         self.pair_w = np.array([p.penalty for p in self.pairs])
-        self.pair_form = [p.formulation for p in self.pairs]
+        self.pair_power = np.array([p.formulation == "power" for p in self.pairs], bool)
         padded = (2 * nodes[..., None] + np.arange(2)).ravel()         # (P, 2 nodes, 2 dofs)
         # E: the distinct pair dofs; `slot` maps the padded entries onto them.
         edofs, self.slot = np.unique(padded, return_inverse=True)
@@ -124,7 +124,7 @@ class SlabSolver:
         """Kernel evaluation of all pairs at iterate X: (G, W, active)."""
         v = self._gather(X)[self.slot].reshape(-1, 2, 2)
         d = np.einsum("pk,pka->pa", self.pair_signs, v)
-        return contact_integrals(self.gn, d[:, 0], d[:, 1], self.dt, self.pair_form)
+        return contact_integrals(self.gn, d[:, 0], d[:, 1], self.dt, self.pair_power)
 
     def _unit(self, e, j):
         """e = the unit vector of pair dof number j (index into E)."""
