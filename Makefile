@@ -17,7 +17,7 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
 export MPLBACKEND := agg
 
-.PHONY: install demo test bench clean formulations
+.PHONY: install demo test bench clean formulations figures
 
 install: $(STAMP)
 
@@ -44,3 +44,6 @@ clean:
 
 formulations: install
 	$(PY) docs/compare_formulations.py
+
+figures: install
+	$(PY) docs/make_figures.py

@@ -122,3 +122,27 @@ def test_cli_unwritable_output(tmp_path):
     path.write_text(GOOD)
     p = cli("run", path, "-o", tmp_path / "no" / "such" / "r.h5")
     assert p.returncode == 2 and "-o: folder" in p.stderr
+
+
+def test_dry_run_prints_model_and_solves_nothing(tmp_path):
+    path = tmp_path / "ok.toml"
+    path.write_text(GOOD)
+    p = cli("run", path, "--dry-run")
+    assert p.returncode == 0, p.stderr
+    assert "2 bodies, 22 nodes, 20 elements" in p.stdout and "100 slabs" in p.stdout
+    assert "contact[0] a | b: gap 0.1, seed penalty" in p.stdout and "(default)" in p.stdout
+    assert "contact[1] b | wall: gap 0.5" in p.stdout
+    assert not (tmp_path / "result.h5").exists()
+
+
+def test_every_override(tmp_path):
+    path = tmp_path / "ok.toml"
+    path.write_text(GOOD)
+    p = cli("run", path, "--every", "25", "--quiet", "-o", tmp_path / "r.h5")
+    assert p.returncode == 0, p.stderr
+    import h5py
+    with h5py.File(tmp_path / "r.h5") as f:
+        assert f["time"].shape == (5,) and f.attrs["every"] == 25
+    for bad in ("0", "x", "2.5"):
+        p = cli("run", path, "--every", bad)
+        assert p.returncode == 2 and "--every" in p.stderr

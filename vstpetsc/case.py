@@ -16,6 +16,7 @@ WALL = "wall"
 FORMULATIONS = ("seed", "power")
 BC_TYPES = ("fixed", "velocity", "traction")
 ENDS = ("left", "right")
+UNITS = {"length": "m", "time": "s", "mass": "kg"}
 
 
 class CaseError(ValueError):
@@ -68,6 +69,7 @@ class Case:
     bcs: list
     output_path: str
     every: int
+    units: dict = field(default_factory=lambda: dict(UNITS))
     text: str = ""
     source: str = ""
 
@@ -213,7 +215,7 @@ def parse_case(text, source="<case>"):
     except tomllib.TOMLDecodeError as exc:
         raise CaseError([f"{source}: TOML syntax error: {exc}"]) from None
     chk = _Checker()
-    chk.unknown(doc, ("time", "output", "body", "contact", "bc"), "")
+    chk.unknown(doc, ("time", "output", "body", "contact", "bc", "units"), "")
 
     tm = chk.table(doc, "time", "time", required=True)
     chk.unknown(tm, ("dt", "end"), "time")
@@ -233,6 +235,10 @@ def parse_case(text, source="<case>"):
         chk.add("output.path", "must not be empty")
     every = chk.integer(out, "every", "output", required=False, default=1)
 
+    un = chk.table(doc, "units", "units", required=False)
+    chk.unknown(un, tuple(UNITS), "units")
+    units = {k: chk.string(un, k, "units", required=False, default=d) for k, d in UNITS.items()}
+
     bodies, names = _bodies(chk, doc)
     contacts = _contacts(chk, doc, bodies, names)
     bcs = _bcs(chk, doc, names, contacts)
@@ -242,7 +248,8 @@ def parse_case(text, source="<case>"):
     if source != "<case>" and not os.path.isabs(out_path):
         out_path = os.path.join(os.path.dirname(os.path.abspath(source)), out_path)
     return Case(dt=dt, end=end, nslabs=nslabs, bodies=bodies, contacts=contacts,
-                bcs=bcs, output_path=out_path, every=every, text=text, source=source)
+                bcs=bcs, output_path=out_path, every=every, units=units, text=text,
+                source=source)
 
 
 def _array_of_tables(chk, doc, key):

@@ -7,11 +7,17 @@ stderr, no traceback), 3 failed solve (result file kept, status "failed").
 import os
 import sys
 
-USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--quiet] [PETSc options ...]
+USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [--dry-run] [PETSc options ...]
+       vstpetsc example [NAME [-o CASE.toml]]   list the bundled cases, or write one
+       vstpetsc info RESULT.h5                   one-screen summary of a result
+       vstpetsc plot RESULT.h5 [-o FIGURE.png]   velocity map, contact force, energy
        vstpetsc --version"""
 
 EXIT_BAD_INPUT = 2
 EXIT_SOLVE_FAILED = 3
+# our options that take a value; every other single-dash option is PETSc's
+VALUED = ("-o", "--output", "--every")
+FLAGS = ("--quiet", "--dry-run")
 
 
 class UsageError(ValueError):
@@ -25,9 +31,9 @@ def split_args(argv):
     i = 0
     while i < len(argv):
         tok = argv[i]
-        if tok in ("-o", "--output"):
+        if tok in VALUED:
             if i + 1 >= len(argv):
-                raise UsageError(f"{tok}: needs a file name")
+                raise UsageError(f"{tok}: needs a value")
             ours += [tok, argv[i + 1]]
             i += 2
         elif tok.startswith("--") or not tok.startswith("-") or tok == "-":
@@ -52,22 +58,28 @@ def _is_value(tok):
         return False
 
 
-def parse_run(args):
-    opts = {"case": None, "output": None, "quiet": False}
+def parse_options(args, positional, flags=(), valued=("-o", "--output")):
+    """Options of one command: up to ``len(positional)`` positional names."""
+    key = lambda tok: "output" if tok in ("-o", "--output") else tok.lstrip("-")
+    opts = {name: None for name in positional}
+    opts.update({f: False for f in flags})
+    opts.update({key(v): None for v in valued})
     it = iter(args)
+    names = list(positional)
     for tok in it:
-        if tok in ("-o", "--output"):
-            opts["output"] = next(it)
-        elif tok == "--quiet":
-            opts["quiet"] = True
-        elif tok.startswith("--"):
+        if tok in valued:
+            value = next(it, None)
+            if value is None:
+                raise UsageError(f"{tok}: needs a value")
+            opts[key(tok)] = value
+        elif tok in flags:
+            opts[tok] = True
+        elif tok.startswith("-"):
             raise UsageError(f"{tok}: unknown option")
-        elif opts["case"] is None:
-            opts["case"] = tok
+        elif names:
+            opts[names.pop(0)] = tok
         else:
-            raise UsageError(f"{tok}: unexpected argument (one case file per run)")
-    if opts["case"] is None:
-        raise UsageError("run: missing CASE.toml")
+            raise UsageError(f"{tok}: unexpected argument")
     return opts
 
 
@@ -87,30 +99,45 @@ def main(argv=None):
         print(f"vstpetsc {__version__}")
         return 0
     command, rest = argv[0], argv[1:]
-    if command != "run":
-        return _fail([f"unknown command {command!r}", USAGE], EXIT_BAD_INPUT)
+    commands = {"run": _run, "example": _example, "info": _info, "plot": _plot}
+    if command not in commands:
+        return _fail([f"unknown command {command!r} (commands: {', '.join(commands)})"],
+                     EXIT_BAD_INPUT)
     try:
-        ours, petsc_args = split_args(rest)
-        opts = parse_run(ours)
+        return commands[command](rest)
     except UsageError as exc:
         return _fail([str(exc)], EXIT_BAD_INPUT)
-    return _run(opts, petsc_args)
 
 
-def _run(opts, petsc_args):
+def _run(rest):
     from vstpetsc.case import CaseError, load_case
 
+    ours, petsc_args = split_args(rest)
+    opts = parse_options(ours, ["case"], FLAGS, VALUED)
+    if opts["case"] is None:
+        raise UsageError("run: missing CASE.toml")
     # Validate before PETSc starts: every rank reads the same file and
     # reaches the same verdict, so no rank waits in a collective call.
     try:
         case = load_case(opts["case"])
     except CaseError as exc:
         return _fail(exc.problems, EXIT_BAD_INPUT)
+    if opts["every"] is not None:
+        try:
+            case.every = int(opts["every"])
+            assert case.every >= 1
+        except (ValueError, AssertionError):
+            raise UsageError(f"--every: must be a whole number >= 1, got "
+                             f"{opts['every']!r}") from None
     out_path = opts["output"] or case.output_path
+    if opts["--dry-run"]:
+        from vstpetsc.run import build_model, describe_model
+        print(describe_model(case, build_model(case), out_path))
+        return 0
     problem = _unwritable(out_path)
     if problem:
-        return _fail([f"{'-o' if opts['output'] else 'output.path'}: {problem}"],
-                     EXIT_BAD_INPUT)
+        key = "-o" if opts["output"] else "output.path"
+        return _fail([f"{key}: {problem}"], EXIT_BAD_INPUT)
 
     import petsc4py
     petsc4py.init([sys.argv[0]] + petsc_args)
@@ -118,10 +145,77 @@ def _run(opts, petsc_args):
     from vstpetsc.solver import SolveFailed
 
     try:
-        run(case, out_path, petsc_options=" ".join(petsc_args), quiet=opts["quiet"])
+        run(case, out_path, petsc_options=" ".join(petsc_args), quiet=opts["--quiet"])
     except SolveFailed as exc:
         return _fail([f"{exc}; result kept in {out_path} (status \"failed\")"],
                      EXIT_SOLVE_FAILED)
+    return 0
+
+
+def _example(rest):
+    from vstpetsc import bundled
+
+    opts = parse_options(rest, ["name"])
+    if opts["name"] is None:
+        if opts["output"]:
+            raise UsageError("example: -o needs a NAME")
+        width = max(map(len, bundled.names()))
+        for name in bundled.names():
+            print(f"{name:<{width}}  {bundled.description(name)}")
+        return 0
+    try:
+        text = bundled.text(opts["name"])
+    except KeyError:
+        raise UsageError(f"example: unknown name {opts['name']!r} (bundled: "
+                         f"{', '.join(bundled.names())})") from None
+    out = opts["output"] or f"{opts['name']}.toml"
+    if opts["output"] is None and os.path.exists(out):
+        raise UsageError(f"example: {out} exists; give -o {out} to overwrite it")
+    problem = _unwritable(out)
+    if problem:
+        raise UsageError(f"-o: {problem}")
+    with open(out, "w") as f:
+        f.write(text)
+    print(f"wrote {out}; run it with: vstpetsc run {out}")
+    return 0
+
+
+def _result_path(opts, command):
+    path = opts["result"]
+    if path is None:
+        raise UsageError(f"{command}: missing RESULT.h5")
+    if not os.path.isfile(path):
+        raise UsageError(f"{path}: no such file")
+    import h5py
+    try:
+        with h5py.File(path, "r") as f:
+            missing = [k for k in ("time", "body", "contact", "energy", "solver") if k not in f]
+    except OSError:
+        raise UsageError(f"{path}: not an HDF5 file") from None
+    if missing:
+        raise UsageError(f"{path}: not a vstpetsc result (no {', '.join(missing)})")
+    return path
+
+
+def _info(rest):
+    from vstpetsc.summary import format_summary, summarize
+
+    opts = parse_options(rest, ["result"], valued=())
+    path = _result_path(opts, "info")
+    print(format_summary(summarize(path), path))
+    return 0
+
+
+def _plot(rest):
+    opts = parse_options(rest, ["result"])
+    path = _result_path(opts, "plot")
+    out = opts["output"] or os.path.splitext(path)[0] + ".png"
+    problem = _unwritable(out)
+    if problem:
+        raise UsageError(f"-o: {problem}")
+    from vstpetsc.plot import plot_result
+    plot_result(path, out)
+    print(f"wrote {out}")
     return 0
 
 

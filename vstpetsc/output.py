@@ -7,6 +7,11 @@ import numpy as np
 from vstpetsc import __version__
 
 
+# Extensions: running totals over every slab (exact whatever `every` is).
+CONTACT_TOTALS = ("impulse_total", "contact_time", "episodes", "force_peak",
+                  "first_contact")
+
+
 class ResultWriter:
     """Appends kept slabs to an HDF5 file.
 
@@ -37,7 +42,7 @@ class ResultWriter:
             g = f.require_group(f"contact/{k}")
             for key, val in meta.items():
                 g.attrs[key] = val
-            for key in ("gap", "force", "impulse"):
+            for key in ("gap", "force", "impulse") + CONTACT_TOTALS:
                 self._series(f"contact/{k}/{key}", ())
         for key in ("energy/kinetic", "energy/strain", "solver/newton_iterations",
                     "solver/linear_iterations", "solver/wall_time"):

@@ -10,7 +10,7 @@ from petsc4py import PETSc
 
 from vstpetsc import mesh
 from vstpetsc.contact import ContactPair, default_penalty, gap_at_end
-from vstpetsc.output import ResultWriter
+from vstpetsc.output import CONTACT_TOTALS, ResultWriter
 from vstpetsc.solver import SlabSolver, SolveFailed
 
 
@@ -168,7 +168,7 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
     solver.set_state(u, v)
     talk = rank0 and not quiet
     if talk:
-        _header(out, case, model, solver, comm.getSize())
+        _header(out, case, model, solver, comm.getSize(), output_path)
     writer = None
     if rank0:
         bodies = [(b.name, lay.x[lay.first[i]:lay.first[i + 1]], b.elements)
@@ -177,9 +177,12 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
             "case": case.text, "petsc_options": petsc_options,
             "mpi_size": comm.getSize(), "formulation": formulation_attr(model),
             "dt": case.dt, "slabs": case.nslabs, "every": case.every,
+            **{f"unit_{k}": v for k, v in case.units.items()},
             "solver": solver.describe()})
     energy0 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
-    _record(writer, model, 0.0, u, v, np.zeros(len(model.pairs)), (0, 0), case.dt, 0.0)
+    totals = ContactTotals(len(model.pairs))
+    _record(writer, model, 0.0, u, v, np.zeros(len(model.pairs)), totals, (0, 0),
+            case.dt, 0.0)
     progress = Progress(case.nslabs, err if talk else None)
     n = case.nslabs
     energy1, k = energy0, 0
@@ -189,16 +192,16 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
             forces, dirichlet = slab_loads(model, t0, t1)
             solver.rhs(forces, dirichlet)
             its = solver.solve(k)
+            totals.add(solver.impulse, t0, case.dt)
             keep = k % case.every == 0 or k == n
-            impulses = solver.impulses() if keep and model.pairs else None
             solver.advance()
             if keep:
                 state = solver.gather_state()
                 if rank0:
                     u, v = state
                     energy1 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
-                    _record(writer, model, t1, u, v, impulses, its, case.dt,
-                            time.perf_counter() - t_start)
+                    _record(writer, model, t1, u, v, solver.impulse, totals, its,
+                            case.dt, time.perf_counter() - t_start)
             progress.update(k, t1, force=k == n)
     except (SolveFailed, PETSc.Error) as exc:
         if isinstance(exc, PETSc.Error):   # e.g. an option that breaks a solver
@@ -224,7 +227,28 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
     return result
 
 
-def _record(writer, model, t, u, v, impulses, its, dt, wall):
+class ContactTotals:
+    """Running totals per pair over every slab."""
+
+    def __init__(self, npairs):
+        z = np.zeros(npairs)
+        self.impulse_total, self.contact_time, self.force_peak = z.copy(), z.copy(), z.copy()
+        self.episodes = z.copy()
+        self.first_contact = np.full(npairs, np.nan)
+        self.on = np.zeros(npairs, dtype=bool)
+
+    def add(self, impulse, t0, dt):
+        on = impulse > 0
+        self.episodes += on & ~self.on
+        self.on = on
+        self.impulse_total += impulse
+        self.contact_time += dt * on
+        self.force_peak = np.maximum(self.force_peak, impulse / dt)
+        self.first_contact = np.where(np.isnan(self.first_contact) & on, t0,
+                                      self.first_contact)
+
+
+def _record(writer, model, t, u, v, impulses, totals, its, dt, wall):
     if writer is None:
         return
     lay = model.layout
@@ -243,21 +267,37 @@ def _record(writer, model, t, u, v, impulses, its, dt, wall):
         row[f"contact/{p}/gap"] = gaps[p]
         row[f"contact/{p}/impulse"] = impulses[p]
         row[f"contact/{p}/force"] = impulses[p] / dt
+        for key in CONTACT_TOTALS:
+            row[f"contact/{p}/{key}"] = getattr(totals, key)[p]
     writer.append(row)
 
 
-def _header(out, case, model, solver, size):
+def describe_model(case, model, output_path):
+    """The model summary: bodies, nodes, slabs, pairs and their penalties."""
     lay = model.layout
-    out.write(f"vstpetsc: {case.source}\n"
-              f"  {len(case.bodies)} bodies, {lay.nnodes} nodes, {lay.elem_node.size} "
-              f"elements; dt = {case.dt:g}, {case.nslabs} slabs to t = "
-              f"{case.nslabs * case.dt:g}; keep every {case.every}\n"
-              f"  solver: {solver.describe()} on {size} rank{'s' if size > 1 else ''}\n")
+    lines = [f"vstpetsc: {case.source}",
+             f"  {len(case.bodies)} bodies, {lay.nnodes} nodes, {lay.elem_node.size} "
+             f"elements; dt = {case.dt:g}, {case.nslabs} slabs to t = "
+             f"{case.nslabs * case.dt:g}; keep every {case.every}; result: {output_path}"]
+    for b in case.bodies:
+        c = np.sqrt(b.E / b.rho)
+        h = (b.x[1] - b.x[0]) / b.elements
+        lines.append(f"  body {b.name}: x = [{b.x[0]:g}, {b.x[1]:g}], {b.elements} elements,"
+                     f" c = {c:.6g}, c dt / h = {c * case.dt / h:.3g}")
     names = [b.name for b in case.bodies]
     for k, (c, p) in enumerate(zip(case.contacts, model.pairs)):
         left = "wall" if c.left is None else names[c.left]
         right = "wall" if c.right is None else names[c.right]
         given = "given" if c.penalty is not None else "default"
-        out.write(f"  contact[{k}] {left} | {right}: gap {p.g0:g}, {p.formulation} "
-                  f"penalty {p.penalty:.6g} ({given})\n")
+        lines.append(f"  contact[{k}] {left} | {right}: gap {p.g0:g}, {p.formulation} "
+                     f"penalty {p.penalty:.6g} ({given})")
+    for bc in case.bcs:
+        lines.append(f"  bc: {names[bc.body]} {bc.end} end {bc.type}")
+    return "\n".join(lines)
+
+
+def _header(out, case, model, solver, size, output_path):
+    text = describe_model(case, model, output_path)
+    out.write(f"{text}\n  solver: {solver.describe()} on {size} "
+              f"rank{'s' if size > 1 else ''}\n")
     out.flush()

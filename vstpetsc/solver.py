@@ -263,6 +263,7 @@ class SlabSolver:
         self.linear_its = 0
         self._linear_solve(self.b, self.X, slab_index)
         newton = 0
+        self.impulse = np.zeros(len(self.pairs))
         if self.has_pairs and self._contact(self.X)[2].any():
             self.C[:] = 0.0
             self.snes.solve(None, self.X)
@@ -273,6 +274,7 @@ class SlabSolver:
                                   f" after {self.snes.getIterationNumber()} Newton "
                                   "iterations)")
             newton = self.snes.getIterationNumber()
+            self.impulse = self.impulses()
         if not np.isfinite(self.X.norm()):
             raise SolveFailed(f"slab {slab_index}: the solution is not finite")
         self.its = (newton, self.linear_its)

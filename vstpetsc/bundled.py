@@ -1,0 +1,32 @@
+"""The example cases shipped with the package (vstpetsc/examples/*.toml).
+
+The first line of each file is ``# NAME: one-line description``; the comment
+block under it tells the physical story.
+"""
+
+import os
+
+FOLDER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "examples")
+
+
+def names():
+    """Sorted names of the bundled examples."""
+    return sorted(f[:-5] for f in os.listdir(FOLDER) if f.endswith(".toml"))
+
+
+def path(name):
+    """Path of a bundled example; KeyError for an unknown name."""
+    if name not in names():
+        raise KeyError(name)
+    return os.path.join(FOLDER, name + ".toml")
+
+
+def text(name):
+    with open(path(name)) as f:
+        return f.read()
+
+
+def description(name):
+    """The one-line description from the file's first line."""
+    first = text(name).splitlines()[0]
+    return first.split(":", 1)[1].strip() if ":" in first else ""

@@ -1,0 +1,94 @@
+"""One figure of a result file: (a) velocity over space and time, (b) contact
+force, (c) energies.  The only module that imports matplotlib."""
+
+import h5py
+import numpy as np
+
+
+def units(attrs):
+    """Axis units from the result's root attributes (SI by default)."""
+    get = lambda k, d: (attrs.get(k, d).decode() if isinstance(attrs.get(k, d), bytes)
+                        else str(attrs.get(k, d)))
+    L, T, M = get("unit_length", "m"), get("unit_time", "s"), get("unit_mass", "kg")
+    si = (L, T, M) == ("m", "s", "kg")
+    return {"length": L, "time": T, "velocity": f"{L}/{T}",
+            "force": "N" if si else f"{M} {L}/{T}^2",
+            "energy": "J" if si else f"{M} {L}^2/{T}^2"}
+
+
+def plot_result(path, out, max_rows=800):
+    """Write the three-panel figure of result file ``path`` to ``out`` (PNG)."""
+    import matplotlib.pyplot as plt
+
+    fig = result_figure(path, max_rows)
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def result_figure(path, max_rows=800):
+    """The three-panel figure of result file ``path`` (a matplotlib Figure)."""
+    import matplotlib
+    if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg", "cairo"):
+        matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
+
+    with h5py.File(path, "r") as f:
+        a = dict(f.attrs)
+        u = units(a)
+        t = f["time"][:]
+        rows = np.unique(np.linspace(0, t.size - 1, min(t.size, max_rows)).astype(int))
+        bodies = sorted(((g["x"][:], g["v"][rows, :], name) for name, g in f["body"].items()),
+                        key=lambda b: b[0][0])
+        pairs = [(f[f"contact/{k}/force"][:], dict(f[f"contact/{k}"].attrs))
+                 for k in sorted(f["contact"], key=int)]
+        kin, strain = f["energy/kinetic"][:], f["energy/strain"][:]
+    status = a.get("status", "")
+    status = status.decode() if isinstance(status, bytes) else str(status)
+
+    fig = plt.figure(figsize=(11, 8.5), constrained_layout=True)
+    grid = fig.add_gridspec(2, 2, height_ratios=[1.35, 1])
+    ax_map = fig.add_subplot(grid[0, :])
+    vmax = max(np.abs(v).max() for _, v, _ in bodies) or 1.0
+    for x, v, name in bodies:
+        mesh = ax_map.pcolormesh(x, t[rows], v, cmap="RdBu_r", vmin=-vmax, vmax=vmax,
+                                 shading="gouraud")
+        ax_map.text(0.5 * (x[0] + x[-1]), 0.985, name, ha="center", va="top", fontsize=9,
+                    transform=ax_map.get_xaxis_transform(),
+                    bbox=dict(boxstyle="round", fc="white", alpha=0.8, lw=0))
+        for end in (x[0], x[-1]):
+            ax_map.axvline(end, color="0.3", lw=0.6)
+    for _, attrs in pairs:
+        wall = attrs.get("wall", np.nan)
+        if np.isfinite(wall):
+            ax_map.axvline(wall, color="k", lw=3)
+    fig.colorbar(mesh, ax=ax_map, label=f"velocity [{u['velocity']}]")
+    ax_map.set_xlabel(f"x [{u['length']}] (reference position)")
+    ax_map.set_ylabel(f"t [{u['time']}]")
+    ax_map.set_title(f"(a) velocity over space and time ({status})")
+
+    ax_f = fig.add_subplot(grid[1, 0])
+    for k, (force, attrs) in enumerate(pairs):
+        name = attrs.get("pair", str(k))
+        name = name.decode() if isinstance(name, bytes) else str(name)
+        ax_f.step(t, force, where="pre", label=f"[{k}] {name.replace(',', ' | ')}")
+    if pairs:
+        ax_f.legend(fontsize=8)
+    else:
+        ax_f.text(0.5, 0.5, "no contact pairs", ha="center", transform=ax_f.transAxes)
+    ax_f.set_xlabel(f"t [{u['time']}]")
+    ax_f.set_ylabel(f"slab-mean contact force [{u['force']}]")
+    ax_f.set_title("(b) contact force (compressive positive)")
+
+    ax_e = fig.add_subplot(grid[1, 1])
+    ax_e.plot(t, kin, label="kinetic")
+    ax_e.plot(t, strain, label="strain")
+    ax_e.plot(t, kin + strain, "k", lw=1.5, label="total")
+    ax_e.set_xlabel(f"t [{u['time']}]")
+    ax_e.set_ylabel(f"energy [{u['energy']}]")
+    ax_e.set_title("(c) energy")
+    ax_e.legend(fontsize=8)
+    for ax in (ax_f, ax_e):
+        ax.xaxis.set_major_locator(MaxNLocator(5))
+    return fig
