@@ -83,9 +83,23 @@ def parse_options(args, positional, flags=(), valued=("-o", "--output")):
     return opts
 
 
+def _rank():
+    """This process's MPI rank, without starting MPI when it is not started:
+    every rank validates the same input and fails alike, and only rank 0
+    speaks."""
+    if "petsc4py.PETSc" in sys.modules:
+        return sys.modules["petsc4py.PETSc"].COMM_WORLD.getRank()
+    for var in ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"):
+        if os.environ.get(var, "").isdigit():
+            return int(os.environ[var])
+    return 0
+
+
 def _fail(lines, code):
-    for line in lines:
-        sys.stderr.write(f"vstpetsc: error: {line}\n")
+    if _rank() == 0:
+        for line in lines:
+            sys.stderr.write(f"vstpetsc: error: {line}\n")
+        sys.stderr.flush()
     return code
 
 
@@ -132,7 +146,8 @@ def _run(rest):
     out_path = opts["output"] or case.output_path
     if opts["--dry-run"]:
         from vstpetsc.run import build_model, describe_model
-        print(describe_model(case, build_model(case), out_path))
+        if _rank() == 0:
+            print(describe_model(case, build_model(case), out_path))
         return 0
     problem = _unwritable(out_path)
     if problem:
@@ -141,11 +156,13 @@ def _run(rest):
 
     import petsc4py
     petsc4py.init([sys.argv[0]] + petsc_args)
-    from vstpetsc.run import run
+    from vstpetsc.run import BadOption, run
     from vstpetsc.solver import SolveFailed
 
     try:
         run(case, out_path, petsc_options=" ".join(petsc_args), quiet=opts["--quiet"])
+    except BadOption as exc:
+        return _fail([str(exc)], EXIT_BAD_INPUT)
     except SolveFailed as exc:
         return _fail([f"{exc}; result kept in {out_path} (status \"failed\")"],
                      EXIT_SOLVE_FAILED)

@@ -14,6 +14,27 @@ from vstpetsc.output import CONTACT_TOTALS, ResultWriter
 from vstpetsc.solver import SlabSolver, SolveFailed
 
 
+class BadOption(ValueError):
+    """A vstpetsc option on the command line that cannot be used."""
+
+
+def ownership_option(nnodes, size):
+    """Node counts per rank from -vst_ownership n0,n1,... (None if absent):
+    forces the DMDA layout, e.g. to put a contact pair across two ranks."""
+    opts = PETSc.Options()
+    if not opts.hasName("vst_ownership"):
+        return None
+    text = opts.getString("vst_ownership")
+    try:
+        counts = [int(c) for c in text.split(",")]
+    except ValueError:
+        raise BadOption(f"-vst_ownership: node counts separated by commas, got {text!r}") from None
+    if len(counts) != size or sum(counts) != nnodes or min(counts) < 1:
+        raise BadOption(f"-vst_ownership: needs {size} positive counts summing to the "
+                        f"{nnodes} nodes, got {text!r}")
+    return counts
+
+
 @dataclass
 class Model:
     """A case in mesh terms."""
@@ -161,6 +182,8 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
     rank0 = comm.getRank() == 0
     model = build_model(case)
     lay = model.layout
+    if ownership is None:
+        ownership = ownership_option(lay.nnodes, comm.getSize())
     t_start = time.perf_counter()
     solver = SlabSolver(lay, case.dt, model.dirichlet_dofs, model.pairs, comm=comm,
                         ownership=ownership)

@@ -1,0 +1,140 @@
+"""Two MPI ranks give the one-rank result (to 1e-10 relative), whichever
+rank owns a contact pair's nodes; errors end every rank with one message."""
+
+import os
+import shutil
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+from conftest import VSTPETSC, Result, body, cli, table, time_table
+from vstpetsc import bundled
+
+pytestmark = pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_btl_vader_single_copy_mechanism="none")
+# run-dependent metadata: everything else must agree
+VARYING_ATTRS = {"mpi_size", "solver", "petsc_options", "wall_time"}
+
+
+def mpirun(*args, n=2, timeout=240):
+    return subprocess.run(["mpirun", "-n", str(n), VSTPETSC, *map(str, args)],
+                          capture_output=True, text=True, timeout=timeout, env=ENV)
+
+
+def assert_same_result(one, two, rtol=1e-10):
+    a, b = Result(one), Result(two)
+    assert set(a.data) == set(b.data)
+    for key, x in a.data.items():
+        y = b.data[key]
+        assert x.shape == y.shape, key
+        if key == "solver/wall_time":
+            continue
+        if key.endswith("iterations"):
+            assert np.abs(x - y).max() <= 1, key      # Newton may stop one step apart
+            continue
+        x, y = np.nan_to_num(x), np.nan_to_num(y)
+        scale = np.abs(x).max() or 1.0
+        assert np.abs(x - y).max() <= rtol * scale, (key, np.abs(x - y).max() / scale)
+    assert set(a.attrs) == set(b.attrs)
+    for k in set(a.attrs) - VARYING_ATTRS:
+        assert a.attrs[k] == b.attrs[k], k
+    assert a.attrs["mpi_size"] == 1 and b.attrs["mpi_size"] == 2
+    assert a.contact_attrs.keys() == b.contact_attrs.keys()
+
+
+@pytest.mark.parametrize("name", bundled.names())
+def test_bundled_example_two_ranks_equal_one(tmp_path, name):
+    case = tmp_path / f"{name}.toml"
+    case.write_text(bundled.text(name))
+    p1 = cli("run", case, "-o", tmp_path / "one.h5", "--quiet", "--every", "4")
+    assert p1.returncode == 0, p1.stderr
+    p2 = mpirun("run", case, "-o", tmp_path / "two.h5", "--quiet", "--every", "4")
+    assert p2.returncode == 0, p2.stderr
+    assert p2.stdout.count("completed") == 1             # the summary prints once
+    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
+
+
+def two_bars():
+    return (time_table(0.01, 2.5) + body("striker", (0.0, 1.0), 50, E=1.0, rho=1.0, v0=1.0)
+            + body("target", (1.105, 2.105), 50, E=2.0, rho=1.0)   # gap closes mid-slab
+            + table("contact", pair=["striker", "target"]))
+
+
+@pytest.mark.parametrize("layout,split", [("51,51", True), ("70,32", False), ("30,72", False)])
+def test_pair_on_one_rank_or_across_two(tmp_path, layout, split):
+    # nodes 0..50 are the striker's, 51..101 the target's: the pair is (50, 51)
+    case = tmp_path / "c.toml"
+    case.write_text(two_bars())
+    assert cli("run", case, "-o", tmp_path / "one.h5", "--quiet").returncode == 0
+    p = mpirun("run", case, "-o", tmp_path / "two.h5", "--quiet", "-vst_ownership", layout)
+    assert p.returncode == 0, p.stderr
+    first = int(layout.split(",")[0])
+    assert (first == 51) == split
+    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
+    assert Result(tmp_path / "two.h5")["contact/0/impulse"].max() > 0
+
+
+def test_wall_pair_at_each_ranks_end(tmp_path):
+    case = tmp_path / "c.toml"
+    case.write_text(time_table(0.01, 3.0) + body("bar", (0.0, 1.0), 60, E=1.0, rho=1.0, v0=1.0)
+                    + table("contact", pair=["wall", "bar"], wall=-0.2, formulation="power")
+                    + table("contact", pair=["bar", "wall"], wall=1.05))
+    assert cli("run", case, "-o", tmp_path / "one.h5", "--quiet").returncode == 0
+    p = mpirun("run", case, "-o", tmp_path / "two.h5", "--quiet")
+    assert p.returncode == 0, p.stderr
+    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
+    r = Result(tmp_path / "two.h5")
+    assert r["contact/0/impulse"].max() > 0 and r["contact/1/impulse"].max() > 0
+
+
+def test_bad_case_ends_both_ranks_with_one_message(tmp_path):
+    case = tmp_path / "bad.toml"
+    case.write_text(two_bars().replace("E = 2.0", "E = -2.0"))
+    p = mpirun("run", case, "-o", tmp_path / "r.h5", timeout=60)
+    assert p.returncode == 2
+    ours = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")]
+    assert len(ours) == 1 and "E: must be positive" in ours[0]
+    assert "Traceback" not in p.stderr
+    p = mpirun("run", tmp_path / "c.toml", "-vst_ownership", "1,2,3", timeout=60)
+    assert p.returncode == 2
+
+
+def test_bad_ownership_option(tmp_path):
+    case = tmp_path / "c.toml"
+    case.write_text(two_bars())
+    p = mpirun("run", case, "-o", tmp_path / "r.h5", "-vst_ownership", "50,50", timeout=60)
+    assert p.returncode == 2
+    ours = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")]
+    assert len(ours) == 1 and "-vst_ownership" in ours[0]
+
+
+def test_forced_failure_ends_both_ranks_and_keeps_the_file(tmp_path):
+    case = tmp_path / "c.toml"
+    case.write_text(two_bars())
+    assert cli("run", case, "-o", tmp_path / "full.h5", "--quiet").returncode == 0
+    p = mpirun("run", case, "-o", tmp_path / "fail.h5", "--quiet", "-snes_max_it", "1",
+               "-snes_rtol", "1e-15", "-vst_ownership", "51,51", timeout=60)
+    assert p.returncode == 3, p.stderr
+    ours = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")]
+    assert len(ours) == 1 and "DIVERGED_MAX_IT" in ours[0]
+    failed, full = Result(tmp_path / "fail.h5"), Result(tmp_path / "full.h5")
+    assert failed.attrs["status"] == "failed"
+    n = failed["time"].size
+    assert n > 1 and full["solver/newton_iterations"][n] > 0
+    for key in ("body/striker/u", "body/target/v"):
+        assert np.allclose(failed[key], full[key][:n], rtol=0, atol=1e-10 * np.abs(full[key]).max())
+
+
+def test_petsc_options_reach_both_ranks(tmp_path):
+    case = tmp_path / "c.toml"
+    case.write_text(two_bars())
+    assert cli("run", case, "-o", tmp_path / "one.h5", "--quiet").returncode == 0
+    p = mpirun("run", case, "-o", tmp_path / "two.h5", "--quiet", "-ksp_type", "gmres",
+               "-pc_type", "bjacobi", "-sub_pc_type", "lu", "-ksp_view", "-snes_monitor")
+    assert p.returncode == 0, p.stderr
+    assert "type: gmres" in p.stdout and "type: bjacobi" in p.stdout
+    assert "number of blocks = 2" in p.stdout and "SNES Function norm" in p.stdout
+    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
