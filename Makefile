@@ -17,7 +17,7 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
 export MPLBACKEND := agg
 
-.PHONY: install demo test bench clean formulations figures
+.PHONY: install demo test bench bench-quick bench-parallel clean formulations figures
 
 install: $(STAMP)
 
@@ -47,3 +47,14 @@ formulations: install
 
 figures: install
 	$(PY) docs/make_figures.py
+
+# Speed is measured here, never asserted in tests.
+bench: install
+	$(PY) bench/run.py
+	$(PY) bench/parallel_solvers.py
+
+bench-quick: install
+	$(PY) bench/run.py --quick --out bench/quick
+
+bench-parallel: install
+	$(PY) bench/parallel_solvers.py

@@ -17,16 +17,14 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 SOLVERS = {
-    "LU (PETSc)": ["-pc_factor_mat_solver_type", "petsc"],
-    "LU (MUMPS)": ["-pc_factor_mat_solver_type", "mumps"],
-    "LU (SuperLU_dist)": ["-pc_factor_mat_solver_type", "superlu_dist"],
-    "GMRES + block Jacobi LU": ["-ksp_type", "gmres", "-pc_type", "bjacobi",
-                                "-sub_pc_type", "lu"],
+    "LU (PETSc)": ["-pc_type", "lu", "-pc_factor_mat_solver_type", "petsc"],
+    "LU (MUMPS)": ["-pc_type", "lu", "-pc_factor_mat_solver_type", "mumps"],
+    "LU (SuperLU_dist)": ["-pc_type", "lu", "-pc_factor_mat_solver_type", "superlu_dist"],
     "GMRES + block Jacobi LU (natural)": ["-ksp_type", "gmres", "-pc_type", "bjacobi",
                                           "-sub_pc_type", "lu",
                                           "-sub_pc_factor_mat_ordering_type", "natural"],
-    "redundant LU (PETSc, natural)": ["-pc_type", "redundant",
-                                      "-redundant_pc_factor_mat_ordering_type", "natural"],
+    "redundant LU (PETSc, natural; default on several ranks)": [
+        "-pc_type", "redundant", "-redundant_pc_factor_mat_ordering_type", "natural"],
 }
 
 
@@ -49,7 +47,8 @@ def measure(folder, ranks, options, elements, slabs):
         cmd = ["mpirun", "-n", str(ranks)] + cmd
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
-        return {"error": (p.stderr.strip().splitlines() or ["?"])[-1]}
+        lines = [l for l in p.stderr.splitlines() if "error" in l.lower()] or ["?"]
+        return {"error": lines[0].strip()[:120]}
     with h5py.File(out) as f:
         wall = f["solver/wall_time"][:]
         v = f["body/bar/v"][-1]

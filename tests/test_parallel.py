@@ -16,7 +16,7 @@ pytestmark = pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpiru
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_btl_vader_single_copy_mechanism="none")
 # run-dependent metadata: everything else must agree
-VARYING_ATTRS = {"mpi_size", "solver", "petsc_options", "wall_time"}
+VARYING_ATTRS = {"mpi_size", "solver", "petsc_options", "wall_time", "setup_time"}
 
 
 def mpirun(*args, n=2, timeout=240):

@@ -187,6 +187,7 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
     t_start = time.perf_counter()
     solver = SlabSolver(lay, case.dt, model.dirichlet_dofs, model.pairs, comm=comm,
                         ownership=ownership)
+    setup_time = time.perf_counter() - t_start
     u, v = initial_state(model)
     solver.set_state(u, v)
     talk = rank0 and not quiet
@@ -239,7 +240,7 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
     if talk:
         progress.done()
     if writer:
-        writer.close("completed", slabs_done=n, wall_time=wall)
+        writer.close("completed", slabs_done=n, wall_time=wall, setup_time=setup_time)
     result = RunResult("completed", n, wall, energy0, energy1)
     if rank0:
         rel = (energy1 - energy0) / energy0 if energy0 else float("nan")

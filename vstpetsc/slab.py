@@ -68,3 +68,21 @@ def block_rows_csr(blocks, n0, n1):
     counts = mask.sum(axis=(2, 3)).ravel()
     indptr = np.concatenate(([0], np.cumsum(counts)))
     return indptr, cols[mask], data[mask]
+
+
+def block_rows_bcsr(blocks, n0, n1):
+    """Block CSR arrays (indptr, indices, data (nnzb, 2, 2)) of the block rows
+    of nodes n0..n1-1, global block columns, explicit zero blocks kept."""
+    n = blocks.shape[0]
+    nodes = np.arange(n0, n1)
+    col_node = nodes[:, None] + np.array([-1, 0, 1])[None, :]
+    valid = (col_node >= 0) & (col_node < n)
+    indptr = np.concatenate(([0], np.cumsum(valid.sum(axis=1))))
+    return indptr, col_node[valid], blocks[n0:n1][valid]
+
+
+def advance_blocks(nnodes, dt):
+    """Per-node blocks Q of the state update Y <- mask * Y + Q X, with
+    mask = (1, 0) per node: u += dt/2 (v^1 + v^2), v = v^2."""
+    q = np.array([[0.5 * dt, 0.5 * dt], [0.0, 1.0]])
+    return np.broadcast_to(q, (nnodes, 2, 2))

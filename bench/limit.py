@@ -1,0 +1,85 @@
+"""How close a slab comes to its physical limit: one solve with the factored
+slab matrix.  Time per slab of whole `vstpetsc run`s (subprocesses, output
+every 10^5 slabs) against one KSPSolve with PETSc's LU factors of the same
+matrix, the growth with the number of elements, peak memory, and the cost
+of a slab with an active contact pair.
+
+Used by bench/run.py.
+"""
+
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import h5py
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc.case import Body
+from vstpetsc.mesh import build_layout
+from vstpetsc.solver import SlabSolver
+
+VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
+C = np.sqrt(2.0e11 / 7850.0)
+
+
+def bar_case(elements, slabs, contact=False, cfl=0.5):
+    """A steel bar of 1 m: clamped and vibrating, or pressed onto a wall at
+    zero gap (every slab of the run then has an active contact pair)."""
+    dt = cfl / elements / C
+    text = (f"[time]\ndt = {dt!r}\nend = {slabs * dt!r}\n[output]\nevery = 100000\n"
+            f"[[body]]\nname = \"bar\"\nx = [0.0, 1.0]\nelements = {elements}\n"
+            "E = 2.0e11\nrho = 7850.0\n")
+    if contact:
+        text += "v0 = 1.0\n[[contact]]\npair = [\"bar\", \"wall\"]\nwall = 1.0\n"
+    else:
+        text += ("v0 = [[0.0, 0.0], [1.0, 1.0]]\n"
+                 "[[bc]]\nbody = \"bar\"\nend = \"left\"\ntype = \"fixed\"\n")
+    return text
+
+
+def solve_time(elements, solves=20, reps=3):
+    """Seconds of one KSPSolve with the LU factors of the slab matrix:
+    (min, median) over ``reps`` repetitions of ``solves`` solves each."""
+    lay = build_layout([Body("bar", (0.0, 1.0), elements, 2.0e11, 7850.0)])
+    s = SlabSolver(lay, 0.5 / elements / C, [0, 1], [], comm=PETSc.COMM_SELF)
+    b, x = s.b.duplicate(), s.X.duplicate()
+    b.setRandom()
+    s.ksp.solve(b, x)
+    times = []
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        for _ in range(solves):
+            s.ksp.solve(b, x)
+        times.append((time.perf_counter() - t0) / solves)
+    return min(times), statistics.median(times)
+
+
+def run_time(elements, slabs, contact=False, reps=3):
+    """Seconds per slab of `vstpetsc run` (setup excluded), (min, median), and
+    the peak resident memory of the largest run in MB."""
+    per_slab, peak = [], 0.0
+    with tempfile.TemporaryDirectory() as folder:
+        case = os.path.join(folder, "case.toml")
+        with open(case, "w") as f:
+            f.write(bar_case(elements, slabs, contact))
+        out = os.path.join(folder, "r.h5")
+        for _ in range(reps):
+            proc = subprocess.Popen([VSTPETSC, "run", case, "-o", out, "--quiet"],
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+            _, status, usage = os.wait4(proc.pid, 0)
+            proc.returncode = os.waitstatus_to_exitcode(status)
+            if proc.returncode != 0:
+                raise RuntimeError(proc.stderr.read().decode())
+            peak = max(peak, usage.ru_maxrss / 1024.0)
+            with h5py.File(out) as f:
+                wall = f.attrs["wall_time"] - f.attrs["setup_time"]
+                newton = f["solver/newton_iterations"][-1]
+            per_slab.append(wall / slabs)
+            if contact and newton == 0:
+                raise RuntimeError("the contact benchmark has no active contact")
+    return min(per_slab), statistics.median(per_slab), peak

@@ -1,0 +1,236 @@
+"""The peer: the same bar and mesh integrated with PETSc's generalized-alpha
+Newmark integrator (TSALPHA2) through petsc4py, and v-ST/FEM against it.
+
+(a) Smooth vibration of a clamped bar: error at the final time against the
+    semi-discrete modal solution versus wall time.
+(b) Impact of two bars with the same penalty force law f = k max(0, -g)
+    (vstpetsc's "power" formulation with the same k) and the same dt: force
+    oscillation on the contact plateau, energy after separation, wall time.
+
+Used by bench/run.py; units with E = rho = A = L = 1 (c = 1).
+"""
+
+import io
+import os
+import tempfile
+import time
+
+import h5py
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc.case import Body, parse_case
+from vstpetsc.mesh import build_layout, modes
+from vstpetsc.run import run
+
+
+def _aij(diag, off):
+    n = diag.size
+    rows = np.repeat(np.arange(n), 3)
+    cols = rows + np.tile([-1, 0, 1], n)
+    vals = np.stack([np.r_[0, off], diag, np.r_[off, 0]], axis=1).ravel()
+    keep = (cols >= 0) & (cols < n)
+    indptr = np.r_[0, np.cumsum(keep.reshape(n, 3).sum(axis=1))].astype(PETSc.IntType)
+    return PETSc.Mat().createAIJ(size=(n, n), csr=(indptr, cols[keep].astype(PETSc.IntType),
+                                                   vals[keep]), comm=PETSc.COMM_SELF)
+
+
+class AlphaBars:
+    """M a + K u + contact(u) = 0 for TSALPHA2, with clamped nodes and at most
+    one penalty pair (nodes s, m, initial gap g0, stiffness k)."""
+
+    def __init__(self, layout, fixed=(), pair=None):
+        self.M = _aij(layout.m_diag, layout.m_off)
+        self.K = _aij(layout.k_diag, layout.k_off)
+        self.fixed = np.asarray(fixed, dtype=PETSc.IntType)
+        self.pair = pair
+        self.last = None      # (shiftA, contact active) of the assembled Jacobian
+
+    def contact_force(self, u):
+        s, m, g0, k = self.pair
+        return k * max(0.0, -(g0 - u[s] + u[m]))
+
+    def formFunction(self, ts, t, U, V, A, F):
+        self.M.mult(A, F)
+        self.K.multAdd(U, F, F)
+        f = F.getArray()
+        u = U.getArray(readonly=True)
+        if self.pair is not None:
+            s, m = self.pair[:2]
+            fc = self.contact_force(u)
+            f[s] += fc
+            f[m] -= fc
+        f[self.fixed] = u[self.fixed]
+
+    def formJacobian(self, ts, t, U, V, A, shiftV, shiftA, J, P):
+        active = False
+        if self.pair is not None:
+            s, m, g0, k = self.pair
+            u = U.getArray(readonly=True)
+            active = g0 - u[s] + u[m] < 0
+        # Leave P untouched when nothing changed: PETSc then keeps its LU
+        # factors (factor once per distinct shift, as vstpetsc factors once).
+        if self.last == (shiftA, active):
+            return
+        self.last = (shiftA, active)
+        P.zeroEntries()
+        P.axpy(1.0, self.K, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+        P.axpy(shiftA, self.M, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+        if active:
+            P.setValues([s, m], [s, m], [k, -k, -k, k], addv=PETSc.InsertMode.ADD_VALUES)
+        P.assemble()
+        if self.fixed.size:
+            P.zeroRows(self.fixed, diag=1.0)
+        if J != P:
+            J.assemble()
+
+
+def integrate_alpha(model, u0, v0, dt, steps, radius, linear, monitor=None):
+    """TSALPHA2 from (u0, v0); returns (u, v, wall seconds).  The Jacobian is
+    factored once per distinct shift (and contact state)."""
+    opts = PETSc.Options()
+    opts["ts_alpha_radius"] = radius       # setAlphaRadius has no effect on TSALPHA2 in 3.18
+    t0 = time.perf_counter()
+    ts = PETSc.TS().create(comm=PETSc.COMM_SELF)
+    ts.setType("alpha2")
+    J = model.K.duplicate()
+    J.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
+    model.last = None
+    ts.setI2Function(model.formFunction, model.M.createVecLeft())
+    ts.setI2Jacobian(model.formJacobian, J, J)
+    ts.setTimeStep(dt)
+    ts.setMaxSteps(steps)
+    ts.setMaxTime(steps * dt * (1 + 1e-12))
+    ts.setExactFinalTime(PETSc.TS.ExactFinalTime.MATCHSTEP)
+    snes = ts.getSNES()
+    # Newton with full steps: one iteration per step on a linear problem
+    # (SNESKSPONLY gives wrong steps under TSALPHA2 in PETSc 3.18: measured).
+    snes.setType("newtonls")
+    opts["snes_linesearch_type"] = "basic"
+    snes.setTolerances(rtol=1e-10, atol=1e-50 if not linear else 1e-300, stol=1e-14, max_it=30)
+    ksp = snes.getKSP()
+    ksp.setType("preonly")
+    ksp.getPC().setType("lu")
+    ksp.getPC().setFactorOrdering("natural")
+    if monitor is not None:
+        ts.setMonitor(monitor)
+    ts.setFromOptions()
+    U, V = PETSc.Vec().createWithArray(u0.copy()), PETSc.Vec().createWithArray(v0.copy())
+    ts.setSolution2(U, V)
+    ts.solve(U)
+    U, V = ts.getSolution2()
+    wall = time.perf_counter() - t0
+    del opts["ts_alpha_radius"], opts["snes_linesearch_type"]
+    return U.getArray().copy(), V.getArray().copy(), wall
+
+
+# -- (a) smooth vibration ---------------------------------------------------
+def smooth(elements=200, counts=(16, 32, 64, 128, 256, 512), radii=(1.0, 0.5)):
+    """Errors against the modal solution after one period of mode 1, and wall
+    times, for v-ST/FEM and TSALPHA2 at several numbers of steps."""
+    lay = build_layout([Body("bar", (0.0, 1.0), elements, 1.0, 1.0)])
+    w2, phi, free = modes(lay, [0])
+    w = np.sqrt(w2)
+    u0 = np.zeros(lay.nnodes)
+    u0[free] = phi[:, 0] / abs(phi[:, 0]).max() + 0.3 * phi[:, 1] / abs(phi[:, 1]).max()
+    v0 = np.zeros_like(u0)
+    T = 2 * np.pi / w[0]
+    M = (np.diag(lay.m_diag) + np.diag(lay.m_off, 1) + np.diag(lay.m_off, -1))[np.ix_(free, free)]
+    q0 = phi.T @ M @ u0[free]
+    u_ex = np.zeros_like(u0)
+    u_ex[free] = phi @ (np.cos(w * T) * q0)
+    err = lambda u: float(np.abs(u - u_ex).max() / np.abs(u_ex).max())
+    out = {"elements": elements, "final_time": T, "vstfem": [],
+           **{f"alpha2_r{r:g}": [] for r in radii}}
+    table = [[float(x), float(u)] for x, u in zip(lay.x, u0)]
+    with tempfile.TemporaryDirectory() as folder:
+        for n in counts:
+            dt = T / n
+            text = (f"[time]\ndt = {dt!r}\nend = {T!r}\n[output]\nevery = 100000000\n"
+                    f"[[body]]\nname = \"bar\"\nx = [0.0, 1.0]\nelements = {elements}\n"
+                    f"E = 1.0\nrho = 1.0\nu0 = {table}\n"
+                    "[[bc]]\nbody = \"bar\"\nend = \"left\"\ntype = \"fixed\"\n")
+            path = os.path.join(folder, "s.h5")
+            t0 = time.perf_counter()
+            run(parse_case(text), path, quiet=True, out=io.StringIO())
+            wall = time.perf_counter() - t0
+            with h5py.File(path) as f:
+                u = f["body/bar/u"][-1]
+            out["vstfem"].append({"steps": n, "error": err(u), "wall": wall})
+            for r in radii:
+                model = AlphaBars(lay, fixed=[0])
+                u, _, wall = integrate_alpha(model, u0, v0, dt, n, r, linear=True)
+                out[f"alpha2_r{r:g}"].append({"steps": n, "error": err(u), "wall": wall})
+    return out
+
+
+def wall_for_error(series, target):
+    """Wall time at which the error reaches ``target`` (log-log interpolation
+    between measured points); None if never reached."""
+    e = np.array([p["error"] for p in series])
+    w = np.array([p["wall"] for p in series])
+    for i in range(1, e.size):
+        if e[i] <= target <= e[i - 1]:
+            s = (np.log(target) - np.log(e[i - 1])) / (np.log(e[i]) - np.log(e[i - 1]))
+            return float(np.exp(np.log(w[i - 1]) + s * (np.log(w[i]) - np.log(w[i - 1]))))
+    return float(w[0]) if e.size and e[0] <= target else None
+
+
+# -- (b) impact --------------------------------------------------------------
+def impact(elements=50, cfl=0.5, beta=50.0, radii=(1.0, 0.5)):
+    """Two identical bars (v0 = 1, gap 0.1), penalty k = beta E A / h."""
+    h = 1.0 / elements
+    dt, end, g0 = cfl * h, 3.0, 0.1
+    k = beta / h
+    steps = int(round(end / dt))
+    out = {"elements_per_bar": elements, "dt": dt, "penalty": k}
+    with tempfile.TemporaryDirectory() as folder:
+        text = (f"[time]\ndt = {dt!r}\nend = {end!r}\n"
+                f"[[body]]\nname = \"a\"\nx = [0.0, 1.0]\nelements = {elements}\n"
+                "E = 1.0\nrho = 1.0\nv0 = 1.0\n"
+                f"[[body]]\nname = \"b\"\nx = [{1 + g0!r}, {2 + g0!r}]\nelements = {elements}\n"
+                "E = 1.0\nrho = 1.0\n"
+                f"[[contact]]\npair = [\"a\", \"b\"]\nformulation = \"power\"\npenalty = {k!r}\n")
+        path = os.path.join(folder, "i.h5")
+        t0 = time.perf_counter()
+        run(parse_case(text), path, quiet=True, out=io.StringIO())
+        wall = time.perf_counter() - t0
+        with h5py.File(path) as f:
+            t, F = f["time"][:], f["contact/0/force"][:]
+            e = f["energy/kinetic"][:] + f["energy/strain"][:]
+        out["vstfem"] = {**_impact_metrics(t, F, e), "wall": wall}
+    lay = build_layout([Body("a", (0.0, 1.0), elements, 1.0, 1.0),
+                        Body("b", (1 + g0, 2 + g0), elements, 1.0, 1.0)])
+    s, m = elements, elements + 1
+    u0 = np.zeros(lay.nnodes)
+    v0 = np.where(np.arange(lay.nnodes) <= s, 1.0, 0.0)
+    for r in radii:
+        model = AlphaBars(lay, pair=(s, m, g0, k))
+        forces = np.zeros(steps + 1)
+        energy = np.zeros(steps + 1)
+
+        def monitor(ts, i, t, U, model=model, forces=forces, energy=energy):
+            u = U.getArray(readonly=True)
+            _, V = ts.getSolution2()
+            v = V.getArray(readonly=True)
+            forces[i] = model.contact_force(u)
+            Mv, Ku = model.M.createVecLeft(), model.K.createVecLeft()
+            model.M.mult(V, Mv)
+            model.K.mult(U, Ku)
+            energy[i] = 0.5 * (v @ Mv.getArray() + u @ Ku.getArray())
+
+        _, _, wall = integrate_alpha(model, u0, v0, dt, steps, r, linear=False, monitor=monitor)
+        t = dt * np.arange(steps + 1)
+        out[f"alpha2_r{r:g}"] = {**_impact_metrics(t, forces, energy), "wall": wall}
+    return out
+
+
+def _impact_metrics(t, force, energy):
+    on = np.nonzero(force > 0)[0]
+    start, end = t[on[0]], t[on[-1]]
+    mid = (t > start + 0.1 * (end - start)) & (t < end - 0.1 * (end - start))
+    plateau = force[mid]
+    return {"plateau_mean": float(plateau.mean()),
+            "oscillation": float(plateau.std() / plateau.mean()),
+            "duration": float(end - start),
+            "energy_after": float((energy[-1] - energy[0]) / energy[0])}

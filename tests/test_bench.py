@@ -1,0 +1,37 @@
+"""The quick benchmark runs and reports every field with a finite value
+(speed itself is reported by `make bench`, never asserted)."""
+
+import json
+import os
+import subprocess
+import sys
+
+from conftest import ROOT
+
+
+def test_bench_quick_reports_every_field(tmp_path):
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "bench", "run.py"), "--quick",
+                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    res = json.loads((tmp_path / "results.json").read_text())
+    for row in res["limit"]:
+        for key in ("elements", "slabs", "solve_min_ms", "solve_median_ms", "slab_min_ms",
+                    "slab_median_ms", "ratio", "peak_memory_MB"):
+            assert isinstance(row[key], (int, float)) and row[key] > 0, key
+    for key in ("no_contact_ms", "contact_ms", "ratio"):
+        assert res["contact"][key] > 0
+    smooth = res["peer"]["smooth"]
+    for method in ("vstfem", "alpha2_r1", "alpha2_r0.5"):
+        assert len(smooth[method]) >= 3
+        for point in smooth[method]:
+            assert point["error"] > 0 and point["wall"] > 0
+    # v-ST/FEM is third order: observed order between the two finest step counts
+    import math
+    last = smooth["vstfem"][-2:]
+    order = math.log(last[0]["error"] / last[1]["error"]) / math.log(last[1]["steps"] / last[0]["steps"])
+    assert order >= 2.5
+    for method in ("vstfem", "alpha2_r1", "alpha2_r0.5"):
+        m = res["peer"]["impact"][method]
+        assert m["plateau_mean"] > 0 and m["oscillation"] >= 0 and m["wall"] > 0
+    assert abs(res["peer"]["impact"]["vstfem"]["plateau_mean"] - 0.5) < 0.05
+    assert "| elements |" in (tmp_path / "README.md").read_text()
