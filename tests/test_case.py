@@ -71,6 +71,14 @@ BAD = [
     ("every", GOOD + "[output]\nevery = 0\n", "output.every: must be >= 1"),
     ("fixed with value", mutate('type = "velocity"\nvalue = [[0.0, 0.0], [1e-4, 1.0]]', 'type = "fixed"\nvalue = 3.0'), "bc[0].value: a fixed end"),
     ("no body", "[time]\ndt = 1.0\nend = 2.0\n", "body: at least one"),
+    ("syntax line", GOOD.replace("E = 2e11", "E = = 2e11", 1), "(at line 9"),
+    ("wall inside body", mutate("wall = 2.5", "wall = 1.2").replace('pair = ["b", "wall"]', 'pair = ["a", "wall"]').replace('[[contact]]\npair = ["a", "b"]\n', ''), "contact[0].wall: lies inside or beyond body 'b'"),
+    ("wall left inside", mutate('pair = ["b", "wall"]', 'pair = ["wall", "a"]').replace("wall = 2.5", "wall = 0.5"), "contact[1].wall: a wall on the left of 'a'"),
+    ("too many elements", mutate("elements = 10", "elements = 1000000000"), "body[0] (a).elements: at most"),
+    ("too many slabs", mutate("dt = 1e-5", "dt = 1e-300"), "time.end: end / dt"),
+    ("string in table", mutate("value = [[0.0, 0.0], [1e-4, 1.0]]", 'value = [[0.0, "x"], [1e-4, 1.0]]'), "bc[0].value: row 0"),
+    ("unknown bc body", mutate('body = "a"', 'body = "q"'), "bc[0].body: unknown body 'q'"),
+    ("contact both walls", mutate('pair = ["a", "b"]', 'pair = ["wall", "wall"]'), "contact[0].pair: needs at least one body"),
 ]
 
 

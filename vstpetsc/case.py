@@ -17,6 +17,8 @@ FORMULATIONS = ("seed", "power")
 BC_TYPES = ("fixed", "velocity", "traction")
 ENDS = ("left", "right")
 UNITS = {"length": "m", "time": "s", "mass": "kg"}
+MAX_SLABS = 1e12          # beyond any run; guards int() and memory against typos
+MAX_ELEMENTS = 10**8      # per body
 
 
 class CaseError(ValueError):
@@ -225,6 +227,8 @@ def parse_case(text, source="<case>"):
     if dt is not None and end is not None:
         if end <= dt:
             chk.add("time.end", f"must be greater than time.dt ({dt:g}), got {end:g}")
+        elif end / dt > MAX_SLABS:
+            chk.add("time.end", f"end / dt = {end / dt:.3g} slabs is more than {MAX_SLABS:.0e}")
         else:
             nslabs = int(round(end / dt))
 
@@ -295,6 +299,9 @@ def _bodies(chk, doc):
         else:
             x = (float(tbl["x"][0]), float(tbl["x"][1]))
         ne = chk.integer(tbl, "elements", where)
+        if ne is not None and ne > MAX_ELEMENTS:
+            chk.add(f"{where}.elements", f"at most {MAX_ELEMENTS}, got {ne}")
+            ne = None
         E = chk.number(tbl, "E", where, positive=True)
         rho = chk.number(tbl, "rho", where, positive=True)
         area = chk.number(tbl, "area", where, required=False, default=1.0, positive=True)
@@ -443,3 +450,12 @@ def _bcs(chk, doc, names, contacts):
         seen[key] = i
         bcs.append(BC(names[name], end, typ, value))
     return bcs
+
+
+def restart_key(text):
+    """What must match for a restart: the case without time.end and
+    output.path (a run may be extended and its file moved)."""
+    doc = tomllib.loads(text)
+    doc.get("time", {}).pop("end", None)
+    doc.get("output", {}).pop("path", None)
+    return doc

@@ -7,7 +7,8 @@ stderr, no traceback), 3 failed solve (result file kept, status "failed").
 import os
 import sys
 
-USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [--dry-run] [PETSc options ...]
+USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [--dry-run]
+                    [--restart RESULT.h5] [PETSc options ...]
        vstpetsc example [NAME [-o CASE.toml]]   list the bundled cases, or write one
        vstpetsc info RESULT.h5                   one-screen summary of a result
        vstpetsc plot RESULT.h5 [-o FIGURE.png]   velocity map, contact force, energy
@@ -16,7 +17,7 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
 EXIT_BAD_INPUT = 2
 EXIT_SOLVE_FAILED = 3
 # our options that take a value; every other single-dash option is PETSc's
-VALUED = ("-o", "--output", "--every")
+VALUED = ("-o", "--output", "--every", "--restart")
 FLAGS = ("--quiet", "--dry-run")
 
 
@@ -95,10 +96,10 @@ def _rank():
     return 0
 
 
-def _fail(lines, code):
+def _fail(lines, code, kind="error: "):
     if _rank() == 0:
         for line in lines:
-            sys.stderr.write(f"vstpetsc: error: {line}\n")
+            sys.stderr.write(f"vstpetsc: {kind}{line}\n")
         sys.stderr.flush()
     return code
 
@@ -121,6 +122,11 @@ def main(argv=None):
         return commands[command](rest)
     except UsageError as exc:
         return _fail([str(exc)], EXIT_BAD_INPUT)
+    except KeyboardInterrupt:           # Ctrl-C before the time loop started
+        return 128 + 2
+    except BrokenPipeError:             # e.g. `vstpetsc info R.h5 | head`
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 def _run(rest):
@@ -144,6 +150,12 @@ def _run(rest):
             raise UsageError(f"--every: must be a whole number >= 1, got "
                              f"{opts['every']!r}") from None
     out_path = opts["output"] or case.output_path
+    if opts["restart"]:
+        if opts["output"] and os.path.abspath(opts["output"]) != os.path.abspath(opts["restart"]):
+            raise UsageError("--restart appends to its file; give no other -o")
+        out_path = opts["restart"]
+        if not os.path.isfile(out_path):
+            raise UsageError(f"--restart: {out_path}: no such file")
     if opts["--dry-run"]:
         from vstpetsc.run import build_model, describe_model
         if _rank() == 0:
@@ -156,13 +168,17 @@ def _run(rest):
 
     import petsc4py
     petsc4py.init([sys.argv[0]] + petsc_args)
-    from vstpetsc.run import BadOption, run
+    from vstpetsc.run import BadOption, Interrupted, run
     from vstpetsc.solver import SolveFailed
 
     try:
-        run(case, out_path, petsc_options=" ".join(petsc_args), quiet=opts["--quiet"])
+        run(case, out_path, petsc_options=" ".join(petsc_args), quiet=opts["--quiet"],
+            restart=bool(opts["restart"]))
     except BadOption as exc:
         return _fail([str(exc)], EXIT_BAD_INPUT)
+    except Interrupted as exc:
+        return _fail([f"{exc}; result kept in {out_path} (status \"interrupted\")"],
+                     128 + exc.signum, kind="")
     except SolveFailed as exc:
         return _fail([f"{exc}; result kept in {out_path} (status \"failed\")"],
                      EXIT_SOLVE_FAILED)

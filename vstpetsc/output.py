@@ -7,6 +7,7 @@ import numpy as np
 from vstpetsc import __version__
 
 
+INTEGER_SERIES = ("solver/newton_iterations", "solver/linear_iterations", "solver/slab")
 # Extensions: running totals over every slab (exact whatever `every` is).
 CONTACT_TOTALS = ("impulse_total", "contact_time", "episodes", "force_peak",
                   "first_contact")
@@ -45,7 +46,7 @@ class ResultWriter:
             for key in ("gap", "force", "impulse") + CONTACT_TOTALS:
                 self._series(f"contact/{k}/{key}", ())
         for key in ("energy/kinetic", "energy/strain", "solver/newton_iterations",
-                    "solver/linear_iterations", "solver/wall_time"):
+                    "solver/linear_iterations", "solver/wall_time", "solver/slab"):
             self._series(key, ())
         f.require_group("contact")
         f.flush()
@@ -53,14 +54,34 @@ class ResultWriter:
     def _series(self, name, tail):
         width = int(np.prod(tail)) if tail else 1
         rows = max(1, min(4096, 65536 // width))
-        dtype = "i8" if name.startswith("solver/") and "iterations" in name else "f8"
+        dtype = "i8" if name in INTEGER_SERIES else "f8"
         ds = self.f.create_dataset(
             name, shape=(0,) + tail, maxshape=(None,) + tail, chunks=(rows,) + tail,
             dtype=dtype)
+        self._track(name, ds)
+
+    def _track(self, name, ds):
         # h5py's high-level resize and item assignment cost ~200 us per call;
         # the low-level calls below, with a cached memory space, a tenth.
-        self.series[name] = (ds.id, tail, np.dtype(dtype),
-                             h5py.h5s.create_simple((1,) + tail))
+        tail = ds.shape[1:]
+        self.series[name] = (ds.id, tail, ds.dtype, h5py.h5s.create_simple((1,) + tail))
+
+    @classmethod
+    def reopen(cls, path, attrs):
+        """Append to an existing result file (a restart)."""
+        self = cls.__new__(cls)
+        self.f = h5py.File(path, "a")
+        self.series = {}
+        self.f.visititems(lambda name, obj: self._track(name, obj)
+                          if isinstance(obj, h5py.Dataset) and obj.maxshape[0] is None
+                          else None)
+        self.n = self.f["time"].shape[0]
+        for k, v in attrs.items():
+            self.f.attrs[k] = v
+        self.f.attrs["status"] = "running"
+        self.f.attrs["restarts"] = int(self.f.attrs.get("restarts", 0)) + 1
+        self.f.flush()
+        return self
 
     def append(self, row):
         """Append one kept time; ``row`` maps every series name to its value."""

@@ -1,14 +1,18 @@
 """Running a case: the model in mesh terms, the time loop, progress and the
 result file.  Collective over the ranks of ``comm``."""
 
+import signal
 import sys
+import threading
 import time
 from dataclasses import dataclass
 
+import h5py
 import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc import mesh
+from vstpetsc.case import restart_key
 from vstpetsc.contact import ContactPair, default_penalty, gap_at_end
 from vstpetsc.output import CONTACT_TOTALS, ResultWriter
 from vstpetsc.solver import SlabSolver, SolveFailed
@@ -171,12 +175,76 @@ class RunResult:
     message: str = ""
 
 
+class Interrupted(RuntimeError):
+    """The run stopped on SIGTERM or SIGINT after finishing a slab."""
+
+    def __init__(self, signum, message):
+        super().__init__(message)
+        self.signum = signum
+
+
+class _StopSignals:
+    """Turns SIGTERM and SIGINT into a flag that the time loop reads after
+    each slab (the slab in progress is finished and written)."""
+
+    def __init__(self):
+        self.signum = 0
+
+    def __enter__(self):
+        self.previous = {}
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGTERM, signal.SIGINT):
+                self.previous[sig] = signal.signal(sig, self._catch)
+        return self
+
+    def _catch(self, signum, frame):
+        self.signum = signum
+
+    def __exit__(self, *exc):
+        for sig, handler in self.previous.items():
+            signal.signal(sig, handler)
+
+
+def load_restart(path, case, model):
+    """State of the last row of result file ``path`` (read on every rank):
+    (slab index, u, v, totals, initial energy).  BadOption if it cannot
+    continue ``case``."""
+    try:
+        f = h5py.File(path, "r")
+    except OSError:
+        raise BadOption(f"--restart: cannot open {path} as an HDF5 file") from None
+    with f:
+        if "solver/slab" not in f or "case" not in f.attrs:
+            raise BadOption(f"--restart: {path} has no restart data (not a vstpetsc result)")
+        stored = f.attrs["case"]
+        if restart_key(stored) != restart_key(case.text):
+            raise BadOption(f"--restart: the case differs from the one stored in {path} "
+                            "in more than time.end (and output.path)")
+        k0 = int(f["solver/slab"][-1])
+        if k0 >= case.nslabs:
+            raise BadOption(f"--restart: {path} already reaches slab {k0} (t = "
+                            f"{f['time'][-1]:g}); raise time.end to continue it")
+        u = np.concatenate([f[f"body/{b.name}/u"][-1] for b in case.bodies])
+        v = np.concatenate([f[f"body/{b.name}/v"][-1] for b in case.bodies])
+        totals = ContactTotals(len(model.pairs))
+        for p in range(len(model.pairs)):
+            g = f[f"contact/{p}"]
+            for key in CONTACT_TOTALS:
+                getattr(totals, key)[p] = g[key][-1]
+            totals.on[p] = g["impulse"][-1] > 0
+        energy0 = float(f["energy/kinetic"][0] + f["energy/strain"][0])
+    return k0, u, v, totals, energy0
+
+
 def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=None,
-        out=sys.stdout, err=sys.stderr):
+        out=sys.stdout, err=sys.stderr, restart=False):
     """Solve ``case`` and write the result file.
 
-    Raises :class:`vstpetsc.solver.SolveFailed` (after closing the file with
-    status "failed") when a slab cannot be solved.
+    With ``restart``, continue the run stored in ``output_path`` from its
+    last row and append to it.  Raises :class:`vstpetsc.solver.SolveFailed`
+    (file closed with status "failed") when a slab cannot be solved, and
+    :class:`Interrupted` (status "interrupted") on SIGTERM or SIGINT; every
+    slab computed so far is in the file either way.
     """
     comm = comm or PETSc.COMM_WORLD
     rank0 = comm.getRank() == 0
@@ -184,71 +252,93 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
     lay = model.layout
     if ownership is None:
         ownership = ownership_option(lay.nnodes, comm.getSize())
+    npairs = len(model.pairs)
+    if restart:
+        k0, u, v, totals, energy0 = load_restart(output_path, case, model)
+    else:
+        k0, (u, v), totals = 0, initial_state(model), ContactTotals(npairs)
+        energy0 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
     t_start = time.perf_counter()
     solver = SlabSolver(lay, case.dt, model.dirichlet_dofs, model.pairs, comm=comm,
                         ownership=ownership)
     setup_time = time.perf_counter() - t_start
-    u, v = initial_state(model)
     solver.set_state(u, v)
     talk = rank0 and not quiet
     if talk:
         _header(out, case, model, solver, comm.getSize(), output_path)
+        if restart:
+            out.write(f"  restart from slab {k0} (t = {k0 * case.dt:g})\n")
     writer = None
     if rank0:
-        bodies = [(b.name, lay.x[lay.first[i]:lay.first[i + 1]], b.elements)
-                  for i, b in enumerate(case.bodies)]
-        writer = ResultWriter(output_path, bodies, pair_meta(model), {
-            "case": case.text, "petsc_options": petsc_options,
-            "mpi_size": comm.getSize(), "formulation": formulation_attr(model),
-            "dt": case.dt, "slabs": case.nslabs, "every": case.every,
-            **{f"unit_{k}": v for k, v in case.units.items()},
-            "solver": solver.describe()})
-    energy0 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
-    totals = ContactTotals(len(model.pairs))
-    _record(writer, model, 0.0, u, v, np.zeros(len(model.pairs)), totals, (0, 0),
-            case.dt, 0.0)
-    progress = Progress(case.nslabs, err if talk else None)
+        attrs = {"case": case.text, "petsc_options": petsc_options,
+                 "mpi_size": comm.getSize(), "formulation": formulation_attr(model),
+                 "dt": case.dt, "slabs": case.nslabs, "every": case.every,
+                 **{f"unit_{k}": v for k, v in case.units.items()},
+                 "solver": solver.describe()}
+        if restart:
+            writer = ResultWriter.reopen(output_path, attrs)
+        else:
+            bodies = [(b.name, lay.x[lay.first[i]:lay.first[i + 1]], b.elements)
+                      for i, b in enumerate(case.bodies)]
+            writer = ResultWriter(output_path, bodies, pair_meta(model), attrs)
+            _record(writer, model, 0, u, v, np.zeros(npairs), totals, (0, 0), case.dt, 0.0)
+    progress = Progress(case.nslabs - k0, err if talk else None)
     n = case.nslabs
-    energy1, k = energy0, 0
-    try:
-        for k in range(1, n + 1):
-            t0, t1 = (k - 1) * case.dt, k * case.dt
-            forces, dirichlet = slab_loads(model, t0, t1)
-            solver.rhs(forces, dirichlet)
-            its = solver.solve(k)
-            totals.add(solver.impulse, t0, case.dt)
-            keep = k % case.every == 0 or k == n
-            solver.advance()
-            if keep:
-                state = solver.gather_state()
-                if rank0:
-                    u, v = state
-                    energy1 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
-                    _record(writer, model, t1, u, v, solver.impulse, totals, its,
-                            case.dt, time.perf_counter() - t_start)
-            progress.update(k, t1, force=k == n)
-    except (SolveFailed, PETSc.Error) as exc:
-        if isinstance(exc, PETSc.Error):   # e.g. an option that breaks a solver
-            last = str(exc).strip().splitlines()[-1].split("]", 1)[-1].strip()
-            exc = SolveFailed(f"slab {k}: PETSc error {exc.ierr}: {last}")
-        if talk:
-            progress.done()
-        if writer:
-            writer.close("failed", message=str(exc), slabs_done=k - 1)
-        raise exc from None
+    energy1, k = energy0, k0
+    with _StopSignals() as stop:
+        try:
+            for k in range(k0 + 1, n + 1):
+                t0, t1 = (k - 1) * case.dt, k * case.dt
+                forces, dirichlet = slab_loads(model, t0, t1)
+                solver.rhs(forces, dirichlet)
+                its = solver.solve(k)
+                totals.add(solver.impulse, t0, case.dt)
+                solver.advance()
+                signum = stop.signum
+                if comm.getSize() > 1:      # every rank stops after the same slab
+                    signum = comm.tompi4py().allreduce(signum, op=_mpi_max())
+                if k % case.every == 0 or k == n or signum:
+                    state = solver.gather_state()
+                    if rank0:
+                        u, v = state
+                        energy1 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
+                        _record(writer, model, k, u, v, solver.impulse, totals, its,
+                                case.dt, time.perf_counter() - t_start)
+                progress.update(k - k0, t1, force=k == n)
+                if signum:
+                    name = signal.Signals(signum).name
+                    raise Interrupted(signum, f"stopped by {name} after slab {k} (t = "
+                                      f"{t1:g}); continue with --restart")
+        except (SolveFailed, PETSc.Error, Interrupted) as exc:
+            status = "interrupted" if isinstance(exc, Interrupted) else "failed"
+            done = k if status == "interrupted" else k - 1
+            if isinstance(exc, PETSc.Error):   # e.g. an option that breaks a solver
+                last = str(exc).strip().splitlines()[-1].split("]", 1)[-1].strip()
+                exc = SolveFailed(f"slab {k}: PETSc error {exc.ierr}: {last}")
+            if talk:
+                progress.done()
+            if writer:
+                writer.close(status, message=str(exc), slabs_done=done)
+            raise exc from None
     wall = time.perf_counter() - t_start
     if talk:
         progress.done()
     if writer:
         writer.close("completed", slabs_done=n, wall_time=wall, setup_time=setup_time)
-    result = RunResult("completed", n, wall, energy0, energy1)
+    result = RunResult("completed", n - k0, wall, energy0, energy1)
     if rank0:
         rel = (energy1 - energy0) / energy0 if energy0 else float("nan")
-        out.write(f"completed {n} slabs in {wall:.2f} s ({1e3 * wall / n:.3f} ms/slab); "
+        out.write(f"completed {n - k0} slabs in {wall:.2f} s "
+                  f"({1e3 * wall / max(n - k0, 1):.3f} ms/slab); "
                   f"energy {energy0:.6g} -> {energy1:.6g} ({100 * rel:+.3f} %); "
                   f"result: {output_path}\n")
         out.flush()
     return result
+
+
+def _mpi_max():
+    from mpi4py import MPI
+    return MPI.MAX
 
 
 class ContactTotals:
@@ -272,11 +362,11 @@ class ContactTotals:
                                       self.first_contact)
 
 
-def _record(writer, model, t, u, v, impulses, totals, its, dt, wall):
+def _record(writer, model, k, u, v, impulses, totals, its, dt, wall):
     if writer is None:
         return
     lay = model.layout
-    row = {"time": t, "energy/kinetic": mesh.kinetic_energy(lay, v),
+    row = {"time": k * dt, "solver/slab": k, "energy/kinetic": mesh.kinetic_energy(lay, v),
            "energy/strain": mesh.strain_energy(lay, u),
            "solver/newton_iterations": its[0], "solver/linear_iterations": its[1],
            "solver/wall_time": wall}
