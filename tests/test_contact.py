@@ -185,8 +185,13 @@ def test_assembled_jacobian_matches_finite_differences(form):
             + table("contact", pair=["a", "b"], formulation=form)
             + table("contact", pair=["b", "wall"], wall=2.001, formulation=form))
     model = build_model(parse_case(text))
-    s = SlabSolver(model.layout, 0.05, model.dirichlet_dofs, model.pairs,
-                   comm=PETSc.COMM_SELF)
+    opts = PETSc.Options()
+    opts["vst_newton"] = "full"
+    try:
+        s = SlabSolver(model.layout, 0.05, model.dirichlet_dofs, model.pairs,
+                       comm=PETSc.COMM_SELF)
+    finally:
+        del opts["vst_newton"]
     u, v = initial_state(model)
     s.set_state(u, v)
     s.rhs((np.zeros(0, int), np.zeros(0)), (np.zeros(0, int), np.zeros(0)))
@@ -219,6 +224,58 @@ def test_assembled_jacobian_matches_finite_differences(form):
     s.snes.getKSP().getPC().apply(r, y)
     s.J.mult(y, Jy)
     assert np.allclose(Jy.array, r.array, rtol=0, atol=1e-10 * np.abs(r.array).max())
+
+
+def two_pair_solver(form):
+    from vstpetsc.case import parse_case
+    from vstpetsc.run import build_model, initial_state
+    from vstpetsc.solver import SlabSolver
+
+    text = (time_table(0.05, 1.0) + body("a", (0.0, 1.0), 6, E=1.0, rho=1.0, v0=2.0)
+            + body("b", (1.01, 2.0), 5, E=3.0, rho=1.0, v0=-1.0)
+            + table("contact", pair=["a", "b"], formulation=form)
+            + table("contact", pair=["b", "wall"], wall=2.001, formulation=form))
+    model = build_model(parse_case(text))
+    s = SlabSolver(model.layout, 0.05, model.dirichlet_dofs, model.pairs, comm=PETSc.COMM_SELF)
+    u, v = initial_state(model)
+    s.set_state(u, v)
+    s.rhs((np.zeros(0, int), np.zeros(0)), (np.zeros(0, int), np.zeros(0)))
+    return s
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_condensed_jacobian_matches_finite_differences(form):
+    """The default Newton works on the pair dofs: r(s) = s - s0 + S c(s)."""
+    s = two_pair_solver(form)
+    newton, _ = s.solve(1)
+    assert newton > 0
+    c = s.condensed
+    sv = s._gather(s.X) + 0.01 * np.random.default_rng(2).normal(size=c.k)
+    X = PETSc.Vec().createSeq(c.k)
+    X.array = sv
+    c.formJacobian(c.snes, X, None, None)
+    h = 1e-7
+    fd = np.array([(c.residual(sv + h * e) - c.residual(sv - h * e)) / (2 * h)
+                   for e in np.eye(c.k)]).T
+    assert np.allclose(c.J, fd, rtol=1e-6, atol=1e-8 * np.abs(fd).max())
+    assert np.abs(c.J - np.eye(c.k)).max() > 0.1          # contact is active here
+    # the converged state satisfies the full slab equations
+    F = s.X.duplicate()
+    s.formFunction(s.snes, s.X, F)
+    assert F.norm() <= 1e-9 * s.b.norm()
+
+
+def test_condensed_and_full_newton_agree(tmp_path):
+    base = run_text(tmp_path, two_bars("seed", end=1.5), name="condensed")
+    opts = PETSc.Options()
+    opts["vst_newton"] = "full"
+    try:
+        full = run_text(tmp_path, two_bars("seed", end=1.5), name="full")
+    finally:
+        del opts["vst_newton"]
+    for key in ("body/striker/u", "body/target/v", "contact/0/force"):
+        scale = np.abs(full[key]).max()
+        assert np.abs(base[key] - full[key]).max() <= 1e-9 * scale, key
 
 
 def test_forced_solve_failure_exits_3_and_keeps_slabs(tmp_path):

@@ -132,9 +132,30 @@ class SlabSolver:
 
     def _contact(self, X):
         """Kernel evaluation of all pairs at iterate X: (G, W, active)."""
-        v = self._gather(X)[self.slot].reshape(-1, 2, 2)
+        return self._contact_values(self._gather(X))
+
+    def _contact_values(self, ve):
+        """Kernel evaluation from the velocities at the pair dofs E."""
+        v = ve[self.slot].reshape(-1, 2, 2)
         d = np.einsum("pk,pka->pa", self.pair_signs, v)
         return contact_integrals(self.gn, d[:, 0], d[:, 1], self.dt, self.pair_power)
+
+    def contact_residual(self, G):
+        """The contact part of the residual on the dofs E: R_{n_k}^a += -c_k w G_a."""
+        vals = -(self.pair_signs * self.pair_w[:, None])[:, :, None] * G[:, None, :]
+        return np.bincount(self.slot, vals.ravel(), minlength=self.edofs.size)
+
+    def contact_block(self, W):
+        """Its derivative C on E: dR_{n_k}^a / dv_{n_l}^b = c_k c_l w W_ab."""
+        c = self.pair_signs
+        block = (c[:, :, None, None, None] * c[:, None, None, :, None]
+                 * self.pair_w[:, None, None, None, None] * W[:, None, :, None, :])
+        slot = self.slot.reshape(-1, 2, 2)
+        rows = np.broadcast_to(slot[:, :, :, None, None], block.shape)
+        cols = np.broadcast_to(slot[:, None, None, :, :], block.shape)
+        k = self.edofs.size
+        return np.bincount((rows * k + cols).ravel(), block.ravel(),
+                           minlength=k * k).reshape(k, k)
 
     def _unit(self, e, j):
         """e = the unit vector of pair dof number j (index into E)."""
@@ -171,9 +192,20 @@ class SlabSolver:
         ksp.setFromOptions()       # the command line wins over the defaults above
         ksp.setUp()                # factors A, once per run
         self.ksp, self.pc = ksp, pc
-        self.fd_jacobian = PETSc.Options().getBool("vst_fd_jacobian", False)
-        # Newton for slabs with active contact: J = A + E C E^T as a shell,
-        # solved exactly by the Woodbury PC on top of the linear solver.
+        opts = PETSc.Options()
+        self.fd_jacobian = opts.getBool("vst_fd_jacobian", False)
+        self.newton = opts.getString("vst_newton", "condensed")
+        if self.newton not in ("condensed", "full"):
+            raise ValueError(f"-vst_newton: 'condensed' or 'full', got {self.newton!r}")
+        if self.newton == "condensed":
+            self.condensed = _Condensed(self)
+            self.snes = self.condensed.snes
+            if self.has_pairs:
+                self._setup_woodbury()
+            ksp.viewFromOptions("-ksp_view")
+            return
+        # Full-space Newton: J = A + E C E^T as a shell, solved exactly by
+        # the Woodbury PC on top of the linear solver.
         J = PETSc.Mat().createPython(self.A.getSizes(), context=_Jacobian(self), comm=comm)
         J.setUp()
         self.J = J
@@ -221,27 +253,14 @@ class SlabSolver:
         F.axpy(-1.0, self.b)
         if self.has_pairs:
             G, _, _ = self._contact(X)
-            # R_{n_k}^a += -c_k w G_a
-            vals = -(self.pair_signs * self.pair_w[:, None])[:, :, None] * G[:, None, :]
-            contrib = np.bincount(self.slot, vals.ravel(), minlength=self.edofs.size)
-            f = F.getArray()
-            f[self.elocal] += contrib[self.eowned]
+            F.getArray()[self.elocal] += self.contact_residual(G)[self.eowned]
 
     def formJacobian(self, snes, X, J, P):
         if self.fd_jacobian:
             self.C = self._fd_contact_block(X)
             return
         _, W, _ = self._contact(X)
-        # dR_{n_k}^a / dv_{n_l}^b = c_k c_l w W_ab, gathered onto the dofs E
-        c = self.pair_signs
-        block = (c[:, :, None, None, None] * c[:, None, None, :, None]
-                 * self.pair_w[:, None, None, None, None] * W[:, None, :, None, :])
-        slot = self.slot.reshape(-1, 2, 2)
-        rows = np.broadcast_to(slot[:, :, :, None, None], block.shape)
-        cols = np.broadcast_to(slot[:, None, None, :, :], block.shape)
-        k = self.edofs.size
-        self.C = np.bincount((rows * k + cols).ravel(), block.ravel(),
-                             minlength=k * k).reshape(k, k)
+        self.C = self.contact_block(W)
 
     def _fd_contact_block(self, X):
         """C by central differences of formFunction in the pair dofs."""
@@ -288,7 +307,10 @@ class SlabSolver:
         self.impulse = np.zeros(len(self.pairs))
         if self.has_pairs and self._contact(self.X)[2].any():
             self.C[:] = 0.0
-            self.snes.solve(None, self.X)
+            if self.newton == "condensed":
+                self.condensed.solve(self.X)
+            else:
+                self.snes.solve(None, self.X)
             reason = self.snes.getConvergedReason()
             if reason <= 0:
                 raise SolveFailed(f"slab {slab_index}: SNES did not converge "
@@ -368,3 +390,78 @@ class _Woodbury:
         if s.C.any():
             alpha = np.linalg.solve(s.eye + s.C @ s.S, s.C @ s._gather(y))
             y.maxpy(-alpha, s.Z)
+
+
+class _Condensed:
+    """Newton on the pair dofs only.  With x0 = A^{-1} b (the contact-free
+    solve) the solution is x = x0 - Z c(s), s = E^T x, so s solves the
+    k-dimensional system  r(s) = s - s0 + S c(s) = 0  (S = E^T Z), with
+    Jacobian I + S C(s).  Same equations as the full-space Newton, at the
+    cost of k vector updates instead of a solve per iteration.
+
+    The k unknowns are known on every rank, so each rank runs this small SNES
+    on COMM_SELF, redundantly and identically (no communication; parallel
+    Python-side objects touched by one rank only would upset PETSc 3.18's
+    collective garbage collection); ranks other than 0 cancel their monitors
+    so that output appears once."""
+
+    def __init__(self, solver):
+        self.s = solver
+        k = solver.edofs.size
+        self.k, self.J = k, np.eye(k)
+        self.vec = PETSc.Vec().createSeq(k, comm=PETSc.COMM_SELF)
+        mat = PETSc.Mat().createPython((k, k), context=_Dense(self), comm=PETSc.COMM_SELF)
+        mat.setUp()
+        snes = PETSc.SNES().create(comm=PETSc.COMM_SELF)
+        snes.setType("newtonls")
+        snes.setFunction(self.formFunction, self.vec.duplicate())
+        snes.setJacobian(self.formJacobian, mat, mat)
+        snes.setTolerances(rtol=1e-12, atol=1e-50, stol=1e-14, max_it=30)
+        ksp = snes.getKSP()
+        ksp.appendOptionsPrefix("newton_")
+        ksp.setType("preonly")
+        ksp.getPC().setType("python")
+        ksp.getPC().setPythonContext(_Dense(self))
+        snes.setFromOptions()
+        if solver.da.getComm().getRank() != 0:
+            snes.cancelMonitor()
+        self.snes = snes
+
+    def residual(self, sv):
+        G, _, _ = self.s._contact_values(sv)
+        return sv - self.s0 + self.s.S @ self.s.contact_residual(G)
+
+    def formFunction(self, snes, X, F):
+        F.array = self.residual(X.getArray(readonly=True).copy())
+
+    def formJacobian(self, snes, X, J, P):
+        sv = X.getArray(readonly=True).copy()
+        if self.s.fd_jacobian:      # cross-check: central differences of r(s)
+            h = 1e-7 * max(1.0, np.abs(sv).max())
+            self.J = np.array([(self.residual(sv + h * e) - self.residual(sv - h * e)) / (2 * h)
+                               for e in np.eye(self.k)]).T
+        else:
+            _, W, _ = self.s._contact_values(sv)
+            self.J = np.eye(self.k) + self.s.S @ self.s.contact_block(W)
+
+    def solve(self, X):
+        s = self.s
+        self.s0 = s._gather(X)
+        self.vec.array = self.s0
+        self.snes.solve(None, self.vec)
+        G, _, _ = s._contact_values(self.vec.getArray(readonly=True).copy())
+        X.maxpy(-(s.contact_residual(G)), s.Z)
+
+
+class _Dense:
+    """The condensed Jacobian as a matrix (for -snes_test_jacobian) and its
+    exact inverse as the preconditioner (k is small)."""
+
+    def __init__(self, condensed):
+        self.c = condensed
+
+    def mult(self, mat, x, y):
+        y.array = self.c.J @ x.getArray(readonly=True)
+
+    def apply(self, pc, x, y):
+        y.array = np.linalg.solve(self.c.J, x.getArray(readonly=True))
