@@ -19,7 +19,8 @@ VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 SOLVERS = {
     "LU (PETSc)": ["-pc_type", "lu", "-pc_factor_mat_solver_type", "petsc"],
     "LU (MUMPS)": ["-pc_type", "lu", "-pc_factor_mat_solver_type", "mumps"],
-    "LU (SuperLU_dist)": ["-pc_type", "lu", "-pc_factor_mat_solver_type", "superlu_dist"],
+    "LU (SuperLU_dist, AIJ)": ["-pc_type", "lu", "-pc_factor_mat_solver_type", "superlu_dist",
+                               "-vst_mat_type", "aij"],
     "GMRES + block Jacobi LU (natural)": ["-ksp_type", "gmres", "-pc_type", "bjacobi",
                                           "-sub_pc_type", "lu",
                                           "-sub_pc_factor_mat_ordering_type", "natural"],
@@ -47,8 +48,8 @@ def measure(folder, ranks, options, elements, slabs):
         cmd = ["mpirun", "-n", str(ranks)] + cmd
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
-        lines = [l for l in p.stderr.splitlines() if "error" in l.lower()] or ["?"]
-        return {"error": lines[0].strip()[:120]}
+        lines = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")] or ["?"]
+        return {"error": lines[0].replace("vstpetsc: error: ", "").strip()[:160]}
     with h5py.File(out) as f:
         wall = f["solver/wall_time"][:]
         v = f["body/bar/v"][-1]

@@ -296,3 +296,27 @@ def test_forced_solve_failure_exits_3_and_keeps_slabs(tmp_path):
     assert failed["time"].size == k          # t = 0 and slabs 1 .. k-1
     assert np.array_equal(failed["body/striker/u"], ref["body/striker/u"][:k])
     assert np.array_equal(failed["contact/0/force"], ref["contact/0/force"][:k])
+
+
+def test_aij_storage_gives_the_same_run(tmp_path):
+    base = run_text(tmp_path, two_bars("power", end=1.0), name="baij")
+    opts = PETSc.Options()
+    opts["vst_mat_type"] = "aij"
+    try:
+        aij = run_text(tmp_path, two_bars("power", end=1.0), name="aij")
+    finally:
+        del opts["vst_mat_type"]
+    for key in ("body/striker/v", "contact/0/force"):
+        scale = np.abs(base[key]).max()
+        assert np.abs(base[key] - aij[key]).max() <= 1e-10 * scale, key
+
+
+def test_unusable_solver_option_is_a_clean_error(tmp_path):
+    case = tmp_path / "c.toml"
+    case.write_text(two_bars("seed", end=0.2))
+    p = cli("run", case, "-o", tmp_path / "r.h5", "-pc_factor_mat_solver_type", "superlu_dist")
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and "superlu_dist does not support matrix type" in lines[0]
+    assert cli("run", case, "-o", tmp_path / "r.h5", "--quiet", "-pc_factor_mat_solver_type",
+               "superlu_dist", "-vst_mat_type", "aij").returncode == 0

@@ -259,8 +259,14 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
         k0, (u, v), totals = 0, initial_state(model), ContactTotals(npairs)
         energy0 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
     t_start = time.perf_counter()
-    solver = SlabSolver(lay, case.dt, model.dirichlet_dofs, model.pairs, comm=comm,
-                        ownership=ownership)
+    try:
+        solver = SlabSolver(lay, case.dt, model.dirichlet_dofs, model.pairs, comm=comm,
+                            ownership=ownership)
+    except ValueError as exc:
+        raise BadOption(str(exc)) from None
+    except PETSc.Error as exc:     # e.g. a solver type that does not exist or fit
+        raise BadOption("PETSc could not set up the solver with these options "
+                        f"(error {exc.ierr}: {_petsc_message(exc)})") from None
     setup_time = time.perf_counter() - t_start
     solver.set_state(u, v)
     talk = rank0 and not quiet
@@ -313,8 +319,7 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
             status = "interrupted" if isinstance(exc, Interrupted) else "failed"
             done = k if status == "interrupted" else k - 1
             if isinstance(exc, PETSc.Error):   # e.g. an option that breaks a solver
-                last = str(exc).strip().splitlines()[-1].split("]", 1)[-1].strip()
-                exc = SolveFailed(f"slab {k}: PETSc error {exc.ierr}: {last}")
+                exc = SolveFailed(f"slab {k}: PETSc error {exc.ierr}: {_petsc_message(exc)}")
             if talk:
                 progress.done()
             if writer:
@@ -334,6 +339,13 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
                   f"result: {output_path}\n")
         out.flush()
     return result
+
+
+def _petsc_message(exc):
+    """The most specific line of a petsc4py error's traceback."""
+    lines = [l.split("]", 1)[-1].strip() for l in str(exc).strip().splitlines()]
+    text = [l for l in lines if l and "() at " not in l and not l.startswith("error code")]
+    return "; ".join(text[-2:]) if text else lines[-1]
 
 
 def _mpi_max():

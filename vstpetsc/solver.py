@@ -62,6 +62,9 @@ class SlabSolver:
         (n0, n1), = self.da.getRanges()
         self.nodes = (n0, n1)
         dirichlet_dofs = np.asarray(dirichlet_dofs, dtype=int)
+        self.mat_type = PETSc.Options().getString("vst_mat_type", "baij")
+        if self.mat_type not in ("baij", "aij"):
+            raise ValueError(f"-vst_mat_type: 'baij' or 'aij', got {self.mat_type!r}")
         self.A = self._matrix(slab.impose_dirichlet(slab.slab_matrix(layout, dt),
                                                     dirichlet_dofs, 1.0))
         self.R = self._matrix(slab.impose_dirichlet(slab.rhs_operator(layout, dt),
@@ -80,15 +83,28 @@ class SlabSolver:
 
     # -- assembly ----------------------------------------------------------
     def _matrix(self, blocks, diagonal_only=False):
-        """A block (2 x 2) sparse matrix (BAIJ: PETSc's unrolled 2x2 kernels
-        solve 30 % faster than AIJ here) from the blocks of the owned nodes."""
+        """A block (2 x 2) sparse matrix from the blocks of the owned nodes:
+        BAIJ by default (PETSc's unrolled 2x2 kernels solve 30 % faster than
+        AIJ here); -vst_mat_type aij for solvers that need AIJ (SuperLU_dist)."""
         n0, n1 = self.nodes
+        nloc, nglob = 2 * (n1 - n0), 2 * blocks.shape[0]
+        if self.mat_type == "aij":
+            if diagonal_only:
+                full = np.zeros((blocks.shape[0], 3, 2, 2))
+                full[:, 1] = blocks
+                blocks = full
+            indptr, indices, data = slab.block_rows_csr(blocks, n0, n1)
+            mat = PETSc.Mat().createAIJ(size=((nloc, nglob), (nloc, nglob)), bsize=2,
+                                        csr=(indptr.astype(PETSc.IntType),
+                                             indices.astype(PETSc.IntType), data),
+                                        comm=self.da.getComm())
+            mat.assemble()
+            return mat
         if diagonal_only:
             nodes = np.arange(n0, n1)
             indptr, indices, data = np.arange(n1 - n0 + 1), nodes, blocks[n0:n1]
         else:
             indptr, indices, data = slab.block_rows_bcsr(blocks, n0, n1)
-        nloc, nglob = 2 * (n1 - n0), 2 * blocks.shape[0]
         mat = PETSc.Mat().createBAIJ(size=((nloc, nglob), (nloc, nglob)), bsize=2,
                                      csr=(indptr.astype(PETSc.IntType),
                                           indices.astype(PETSc.IntType),
