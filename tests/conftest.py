@@ -1,3 +1,4 @@
+import contextlib
 import io
 import os
 import subprocess
@@ -63,6 +64,20 @@ def run_text(tmp_path, text, name="case", **kw):
     out = tmp_path / f"{name}.h5"
     run(case, str(out), quiet=True, out=io.StringIO(), **kw)
     return Result(out)
+
+
+@contextlib.contextmanager
+def petsc_options(**values):
+    """Set PETSc options for the solvers created inside the block."""
+    from petsc4py import PETSc
+    opts = PETSc.Options()
+    for k, v in values.items():
+        opts[k] = v
+    try:
+        yield
+    finally:
+        for k in values:
+            del opts[k]
 
 
 def cli(*args, cwd=None, timeout=120):

@@ -345,7 +345,7 @@ def _petsc_message(exc):
     """The most specific line of a petsc4py error's traceback."""
     lines = [l.split("]", 1)[-1].strip() for l in str(exc).strip().splitlines()]
     text = [l for l in lines if l and "() at " not in l and not l.startswith("error code")]
-    return "; ".join(text[-2:]) if text else lines[-1]
+    return "; ".join(reversed(text[-2:])) if text else lines[-1]   # most specific first
 
 
 def _mpi_max():

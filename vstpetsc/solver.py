@@ -38,6 +38,26 @@ def _reason_name(cls, code):
     return str(code)
 
 
+def newton_snes(comm, function, F, jacobian, J, exact_inverse, rtol, dm=None):
+    """A Newton SNES whose linear step is one application of an exact
+    inverse (a Python PC; its KSP has the prefix newton_).  Defaults are set
+    here, then the options database has the last word."""
+    snes = PETSc.SNES().create(comm=comm)
+    if dm is not None:
+        snes.setDM(dm)
+    snes.setType("newtonls")
+    snes.setFunction(function, F)
+    snes.setJacobian(jacobian, J, J)
+    snes.setTolerances(rtol=rtol, atol=1e-50, stol=1e-14, max_it=30)
+    ksp = snes.getKSP()
+    ksp.appendOptionsPrefix("newton_")
+    ksp.setType("preonly")
+    ksp.getPC().setType("python")
+    ksp.getPC().setPythonContext(exact_inverse)
+    snes.setFromOptions()
+    return snes
+
+
 class SlabSolver:
     """Assembles and solves the slab equations of one run (constant dt).
 
@@ -225,19 +245,8 @@ class SlabSolver:
         J = PETSc.Mat().createPython(self.A.getSizes(), context=_Jacobian(self), comm=comm)
         J.setUp()
         self.J = J
-        snes = PETSc.SNES().create(comm=comm)
-        snes.setDM(self.da)
-        snes.setType("newtonls")
-        snes.setFunction(self.formFunction, self.F)
-        snes.setJacobian(self.formJacobian, J, J)
-        snes.setTolerances(rtol=1e-10, atol=1e-50, stol=1e-14, max_it=30)
-        nk = snes.getKSP()
-        nk.appendOptionsPrefix("newton_")
-        nk.setType("preonly")
-        nk.getPC().setType("python")
-        nk.getPC().setPythonContext(_Woodbury(self))
-        snes.setFromOptions()
-        self.snes = snes
+        self.snes = newton_snes(comm, self.formFunction, self.F, self.formJacobian, J,
+                                _Woodbury(self), rtol=1e-10, dm=self.da)
         if self.has_pairs:
             self._setup_woodbury()
         ksp.viewFromOptions("-ksp_view")
@@ -428,17 +437,8 @@ class _Condensed:
         self.vec = PETSc.Vec().createSeq(k, comm=PETSc.COMM_SELF)
         mat = PETSc.Mat().createPython((k, k), context=_Dense(self), comm=PETSc.COMM_SELF)
         mat.setUp()
-        snes = PETSc.SNES().create(comm=PETSc.COMM_SELF)
-        snes.setType("newtonls")
-        snes.setFunction(self.formFunction, self.vec.duplicate())
-        snes.setJacobian(self.formJacobian, mat, mat)
-        snes.setTolerances(rtol=1e-12, atol=1e-50, stol=1e-14, max_it=30)
-        ksp = snes.getKSP()
-        ksp.appendOptionsPrefix("newton_")
-        ksp.setType("preonly")
-        ksp.getPC().setType("python")
-        ksp.getPC().setPythonContext(_Dense(self))
-        snes.setFromOptions()
+        snes = newton_snes(PETSc.COMM_SELF, self.formFunction, self.vec.duplicate(),
+                           self.formJacobian, mat, _Dense(self), rtol=1e-12)
         if solver.da.getComm().getRank() != 0:
             snes.cancelMonitor()
         self.snes = snes
