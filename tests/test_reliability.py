@@ -27,12 +27,18 @@ def long_case(every=3):
 
 
 def start_and_wait(case, out, min_rows_bytes=200_000, timeout=60):
-    """Start a run and wait until its file has grown (the time loop runs)."""
+    """Start a run and return once its time loop has run for a while.  The
+    first row allocates whole HDF5 chunks, so the file's size says only
+    that the loop started; half a second more is some hundred slabs of the
+    ~9 s run (HDF5 locks the file, so it cannot be read meanwhile)."""
     proc = subprocess.Popen([VSTPETSC, "run", case, "-o", out, "--quiet"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     t0 = time.time()
     while time.time() - t0 < timeout:
         if os.path.exists(out) and os.path.getsize(out) > min_rows_bytes:
+            time.sleep(0.5)
+            if proc.poll() is not None:
+                raise AssertionError(f"run ended early: {proc.stderr.read()}")
             return proc
         if proc.poll() is not None:
             raise AssertionError(f"run ended early: {proc.stderr.read()}")
