@@ -125,8 +125,3 @@ def contact_integrals(gn, d1, d2, dt, formulation):
     W[:, 0, 0], W[:, 0, 1] = (w1 * i1).sum(axis=1), (w1 * i2).sum(axis=1)
     W[:, 1, 0], W[:, 1, 1] = (w2 * i1).sum(axis=1), (w2 * i2).sum(axis=1)
     return G, W, active
-
-
-def gap_at_end(gn, d1, d2, dt):
-    """g(theta = 1) = g^n - dt/2 (d^1 + d^2)."""
-    return gn - 0.5 * dt * (d1 + d2)

@@ -13,7 +13,7 @@ from petsc4py import PETSc
 
 from vstpetsc import mesh
 from vstpetsc.case import restart_key
-from vstpetsc.contact import ContactPair, default_penalty, gap_at_end
+from vstpetsc.contact import ContactPair, default_penalty
 from vstpetsc.output import CONTACT_TOTALS, ResultWriter
 from vstpetsc.solver import SlabSolver, SolveFailed
 
@@ -172,7 +172,6 @@ class RunResult:
     wall: float
     energy0: float
     energy1: float
-    message: str = ""
 
 
 class Interrupted(RuntimeError):
