@@ -15,8 +15,9 @@ def test_bench_quick_reports_every_field(tmp_path):
     assert p.returncode == 0, p.stdout + p.stderr
     res = json.loads((tmp_path / "results.json").read_text())
     for row in res["limit"]:
-        for key in ("elements", "slabs", "solve_min_ms", "solve_median_ms", "slab_min_ms",
-                    "slab_median_ms", "ratio", "peak_memory_MB"):
+        for key in ("elements", "slabs", "solve_min_ms", "solve_median_ms", "apply_min_ms",
+                    "apply_median_ms", "slab_min_ms", "slab_median_ms", "ratio",
+                    "ratio_median", "ratio_apply", "peak_memory_MB"):
             assert isinstance(row[key], (int, float)) and row[key] > 0, key
     for key in ("no_contact_ms", "contact_ms", "ratio"):
         assert res["contact"][key] > 0

@@ -154,3 +154,13 @@ def test_every_override(tmp_path):
     for bad in ("0", "x", "2.5"):
         p = cli("run", path, "--every", bad)
         assert p.returncode == 2 and "--every" in p.stderr
+
+
+def test_control_characters_in_names_stay_on_one_line():
+    """Found by the fuzz test: a carriage return in a body name split the
+    message into two lines."""
+    text = GOOD.replace('name = "a"', 'name = "a\\rx"', 1)
+    with pytest.raises(CaseError) as err:
+        parse_case(text)
+    assert all("\r" not in p and "\n" not in p for p in err.value.problems)
+    assert any("a\\rx" in p for p in err.value.problems)

@@ -225,7 +225,7 @@ def test_condensed_jacobian_matches_finite_differences(form):
     newton, _ = s.solve(1)
     assert newton > 0
     c = s.condensed
-    sv = s._gather(s.X) + 0.01 * np.random.default_rng(2).normal(size=c.k)
+    sv = s.VE @ s._gather(s.X) + 0.01 * np.random.default_rng(2).normal(size=c.k)
     X = PETSc.Vec().createSeq(c.k)
     X.array = sv
     c.formJacobian(c.snes, X, None, None)

@@ -146,3 +146,50 @@ def test_history_hat_integrals_exact():
                               points=h.t, epsrel=1e-13)[0]]
         assert np.allclose(h.hat_integrals(t0, t1), ref, rtol=1e-11, atol=1e-15)
     assert np.allclose(History(value=3.0).hat_integrals(1.0, 1.5), [0.75, 0.75])
+
+
+def block_dense(blocks):
+    """Dense 2N x 2N matrix of node blocks (N, 3, 2, 2)."""
+    n = blocks.shape[0]
+    out = np.zeros((2 * n, 2 * n))
+    for i in range(n):
+        for j, c in enumerate((i - 1, i, i + 1)):
+            if 0 <= c < n:
+                out[2 * i:2 * i + 2, 2 * c:2 * c + 2] += blocks[i, j]
+    return out
+
+
+@pytest.mark.parametrize("dt", [0.05, 0.7])
+def test_running_sum_right_hand_side_equals_the_state_form(dt):
+    """slab.recurrence: W r^{n+1} = W r^n + G z^n - W (T - I) F^n, with
+    x = V z per node, equals r^{n+1} = R (mask Y^n + Q x^n); z_2 is the
+    displacement increment; the solver's matrix is (W x I) A (V x I)."""
+    lay = two_bodies()
+    n = lay.nnodes
+    rng = np.random.default_rng(5)
+    W, V, gm, gk = slab.recurrence(dt)
+    I = np.eye(n)
+    A = block_dense(slab.slab_matrix(lay, dt))
+    R = block_dense(slab.rhs_operator(lay, dt))
+    Q = np.kron(I, slab.advance_blocks(1, dt)[0])
+    mask = np.tile([1.0, 0.0], n)
+    WI, VI = np.kron(I, W), np.kron(I, V)
+    assert np.allclose(block_dense(slab.slab_matrix(lay, dt, W, V)), WI @ A @ VI)
+    assert np.allclose(block_dense(slab.rhs_operator(lay, dt, W)), WI @ R)
+    indptr, indices, data = slab.increment_rows(lay, dt, 0, n)
+    G = np.zeros((2 * n, 2 * n))
+    for row in range(2 * n):
+        G[row, indices[indptr[row]:indptr[row + 1]]] = data[indptr[row]:indptr[row + 1]]
+    assert np.diff(indptr).max() == 3
+    Y = rng.normal(size=2 * n)
+    running = WI @ R @ Y
+    for _ in range(3):
+        F = rng.normal(size=2 * n)
+        x = np.linalg.solve(A, R @ Y + F)
+        z = np.linalg.solve(VI, x)
+        Y_next = mask * Y + Q @ x
+        assert np.allclose(z[1::2], Y_next[0::2] - Y[0::2], rtol=1e-13, atol=1e-13)
+        running = running + G @ z - WI @ np.kron(I, slab.CARRY - np.eye(2)) @ F
+        direct = WI @ R @ Y_next
+        assert np.allclose(running, direct, rtol=0, atol=1e-10 * np.abs(direct).max())
+        Y = Y_next

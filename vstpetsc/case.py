@@ -83,7 +83,9 @@ class _Checker:
         self.problems = []
 
     def add(self, where, msg):
-        self.problems.append(f"{where}: {msg}")
+        # one line per problem, whatever characters the case file put in names
+        text = f"{where}: {msg}"
+        self.problems.append("".join(c if c.isprintable() else repr(c)[1:-1] for c in text))
 
     def table(self, doc, key, where, required):
         val = doc.get(key)

@@ -95,6 +95,14 @@ class ResultWriter:
         self.n = n
         self.f.flush()
 
+    def save_rhs_state(self, b, slab):
+        """Keep the running right-hand side after ``slab`` (for a bit-for-bit
+        restart); replaces the one kept before."""
+        if "solver/rhs_state" in self.f:
+            del self.f["solver/rhs_state"]
+        ds = self.f.create_dataset("solver/rhs_state", data=b)
+        ds.attrs["slab"] = slab
+
     def close(self, status, **attrs):
         self.f.attrs["status"] = status
         for k, v in attrs.items():

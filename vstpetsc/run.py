@@ -105,16 +105,28 @@ def initial_state(model):
     return u, v
 
 
-def slab_loads(model, t0, t1):
-    """((force dofs, values), (Dirichlet dofs, values)) of the slab (t0, t1]."""
-    fd = [d for d, _, _ in model.tractions]
-    fv = [area * h.hat_integrals(t0, t1) for _, h, area in model.tractions]
-    dd = [d for d, _ in model.dirichlet]
-    dv = [np.zeros(2) if h is None else h(np.array([t0, t1])) for _, h in model.dirichlet]
+class SlabLoads:
+    """((force dofs, values), (Dirichlet dofs, values)) of a slab (t0, t1]:
+    ``SlabLoads(model)(t0, t1)``.  The dofs never change, so they are
+    gathered once; fixed ends give the same zero values every slab."""
 
-    def cat(parts):
-        return np.concatenate(parts) if parts else np.zeros(0)
-    return ((cat(fd).astype(int), cat(fv)), (cat(dd).astype(int), cat(dv)))
+    def __init__(self, model):
+        self.tractions, self.dirichlet = model.tractions, model.dirichlet
+        self.fd = _cat([d for d, _, _ in self.tractions]).astype(int)
+        self.dd = _cat([d for d, _ in self.dirichlet]).astype(int)
+        self.fixed = all(h is None for _, h in self.dirichlet)
+        self.no_force, self.zero = np.zeros(0), np.zeros(self.dd.size)
+
+    def __call__(self, t0, t1):
+        fv = _cat([area * h.hat_integrals(t0, t1) for _, h, area in self.tractions]) \
+            if self.tractions else self.no_force
+        dv = self.zero if self.fixed else _cat(
+            [np.zeros(2) if h is None else h(np.array([t0, t1])) for _, h in self.dirichlet])
+        return (self.fd, fv), (self.dd, dv)
+
+
+def _cat(parts):
+    return np.concatenate(parts) if parts else np.zeros(0)
 
 
 def pair_gaps(model, u):
@@ -149,8 +161,10 @@ class Progress:
         self.last = -1.0
 
     def update(self, k, t, force=False):
+        if self.stream is None:
+            return
         now = time.perf_counter()
-        if self.stream is None or (not force and now - self.last < 0.5):
+        if not force and now - self.last < 0.5:
             return
         self.last = now
         el = now - self.start
@@ -206,8 +220,8 @@ class _StopSignals:
 
 def load_restart(path, case, model):
     """State of the last row of result file ``path`` (read on every rank):
-    (slab index, u, v, totals, initial energy).  BadOption if it cannot
-    continue ``case``."""
+    (slab index, u, v, totals, initial energy, running right-hand side or
+    None).  BadOption if it cannot continue ``case``."""
     try:
         f = h5py.File(path, "r")
     except OSError:
@@ -232,7 +246,11 @@ def load_restart(path, case, model):
                 getattr(totals, key)[p] = g[key][-1]
             totals.on[p] = g["impulse"][-1] > 0
         energy0 = float(f["energy/kinetic"][0] + f["energy/strain"][0])
-    return k0, u, v, totals, energy0
+        rhs = f.get("solver/rhs_state")
+        # kept when the run stopped cleanly; after a failure or a kill the
+        # solver starts again from (u, v), equal up to rounding
+        rhs = rhs[...] if rhs is not None and int(rhs.attrs["slab"]) == k0 else None
+    return k0, u, v, totals, energy0, rhs
 
 
 def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=None,
@@ -253,9 +271,9 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
         ownership = ownership_option(lay.nnodes, comm.getSize())
     npairs = len(model.pairs)
     if restart:
-        k0, u, v, totals, energy0 = load_restart(output_path, case, model)
+        k0, u, v, totals, energy0, rhs = load_restart(output_path, case, model)
     else:
-        k0, (u, v), totals = 0, initial_state(model), ContactTotals(npairs)
+        k0, (u, v), totals, rhs = 0, initial_state(model), ContactTotals(npairs), None
         energy0 = mesh.kinetic_energy(lay, v) + mesh.strain_energy(lay, u)
     t_start = time.perf_counter()
     try:
@@ -268,6 +286,8 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
                         f"(error {exc.ierr}: {_petsc_message(exc)})") from None
     setup_time = time.perf_counter() - t_start
     solver.set_state(u, v)
+    if rhs is not None:
+        solver.set_rhs_state(rhs)
     talk = rank0 and not quiet
     if talk:
         _header(out, case, model, solver, comm.getSize(), output_path)
@@ -288,13 +308,14 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
             writer = ResultWriter(output_path, bodies, pair_meta(model), attrs)
             _record(writer, model, 0, u, v, np.zeros(npairs), totals, (0, 0), case.dt, 0.0)
     progress = Progress(case.nslabs - k0, err if talk else None)
+    loads = SlabLoads(model)
     n = case.nslabs
     energy1, k = energy0, k0
     with _StopSignals() as stop:
         try:
             for k in range(k0 + 1, n + 1):
                 t0, t1 = (k - 1) * case.dt, k * case.dt
-                forces, dirichlet = slab_loads(model, t0, t1)
+                forces, dirichlet = loads(t0, t1)
                 solver.rhs(forces, dirichlet)
                 its = solver.solve(k)
                 totals.add(solver.impulse, t0, case.dt)
@@ -321,13 +342,18 @@ def run(case, output_path, petsc_options="", quiet=False, comm=None, ownership=N
                 exc = SolveFailed(f"slab {k}: PETSc error {exc.ierr}: {_petsc_message(exc)}")
             if talk:
                 progress.done()
+            rhs = solver.rhs_state() if status == "interrupted" else None  # collective
             if writer:
+                if rhs is not None:
+                    writer.save_rhs_state(rhs, k)
                 writer.close(status, message=str(exc), slabs_done=done)
             raise exc from None
     wall = time.perf_counter() - t_start
     if talk:
         progress.done()
+    rhs = solver.rhs_state()        # collective
     if writer:
+        writer.save_rhs_state(rhs, n)
         writer.close("completed", slabs_done=n, wall_time=wall, setup_time=setup_time)
     result = RunResult("completed", n - k0, wall, energy0, energy1)
     if rank0:
@@ -363,7 +389,11 @@ class ContactTotals:
         self.on = np.zeros(npairs, dtype=bool)
 
     def add(self, impulse, t0, dt):
+        if not impulse.size:
+            return
         on = impulse > 0
+        if not on.any() and not self.on.any():      # nothing changes (most slabs)
+            return
         self.episodes += on & ~self.on
         self.on = on
         self.impulse_total += impulse

@@ -32,14 +32,15 @@ def node_blocks(layout, cm, ck):
     return mb[..., None, None] * cm + kb[..., None, None] * ck
 
 
-def slab_matrix(layout, dt):
-    """Blocks of [A] = HM (x) M + dt^2 HK (x) K."""
-    return node_blocks(layout, HM, dt * dt * HK)
+def slab_matrix(layout, dt, w=np.eye(2), v=np.eye(2)):
+    """Blocks of [A] = HM (x) M + dt^2 HK (x) K; with per-node transforms,
+    of (W (x) I) A (V (x) I) (test functions mixed by W, unknowns x = V z)."""
+    return node_blocks(layout, w @ HM @ v, dt * dt * w @ HK @ v)
 
 
-def rhs_operator(layout, dt):
-    """Blocks of the operator R with r = R (u^n, v^{n-})."""
-    return node_blocks(layout, RM, dt * RK)
+def rhs_operator(layout, dt, w=np.eye(2)):
+    """Blocks of the operator R with r = R (u^n, v^{n-}) (or of W R)."""
+    return node_blocks(layout, w @ RM, dt * w @ RK)
 
 
 def impose_dirichlet(blocks, dofs, diagonal):
@@ -86,3 +87,62 @@ def advance_blocks(nnodes, dt):
     mask = (1, 0) per node: u += dt/2 (v^1 + v^2), v = v^2."""
     q = np.array([[0.5 * dt, 0.5 * dt], [0.0, 1.0]])
     return np.broadcast_to(q, (nnodes, 2, 2))
+
+
+# R (mask * Y) = T R Y: after a slab, the right-hand side keeps only its
+# K u part, which both rows share (r^1 and r^2 both carry -dt/2 K u).
+CARRY = np.array([[0.0, 1.0], [0.0, 1.0]])
+
+
+def recurrence(dt):
+    """Per-node transforms that make the right-hand side a running sum.
+
+    Folding the state update into r = R Y and using A x^n = r^n + f^n (f^n:
+    the nodal forces of slab n, contact included),
+
+        r^{n+1} = r^n + (XM (x) M + XK (x) K) x^n - (T - I) f^n,
+
+    with T = CARRY, Q the state update, XM = (T - I) HM + RM Q and
+    XK = dt^2 (T - I) HK + dt RK Q, both of rank one.  New unknowns per node,
+    z = V^{-1} x = dt/2 (v^2 - v^1, v^1 + v^2), and test functions mixed by W
+    make the increment diagonal: one tridiagonal product per dof row,
+
+        W r^{n+1} = W r^n + (gm M z_1, gk K z_2) - W (T - I) f^n,
+
+    and z_2 is the displacement increment u^{n+1} - u^n.  The state (u, v)
+    is no longer needed per slab.  Returns (W, V, gm, gk)."""
+    eye = np.eye(2)
+    q = advance_blocks(1, dt)[0]
+    xm = (CARRY - eye) @ HM + RM @ q
+    xk = dt * dt * (CARRY - eye) @ HK + dt * RK @ q
+    a = np.column_stack([xm[:, np.abs(xm).max(axis=0).argmax()],
+                         xk[:, np.abs(xk).max(axis=0).argmax()]])
+    w = np.linalg.inv(a / np.abs(a).max(axis=0))
+    v = np.linalg.inv(0.5 * dt * np.array([[-1.0, 1.0], [1.0, 1.0]]))
+    gm, gk = w @ xm @ v, w @ xk @ v
+    assert np.allclose(gm, np.diag([gm[0, 0], 0.0]), rtol=0, atol=1e-12 * abs(gm[0, 0]))
+    assert np.allclose(gk, np.diag([0.0, gk[1, 1]]), rtol=0, atol=1e-12 * abs(gk[1, 1]))
+    return w, v, gm[0, 0], gk[1, 1]
+
+
+def increment_rows(layout, dt, n0, n1):
+    """CSR arrays (indptr, indices, data) of the running-sum increment, dof
+    rows of nodes n0..n1-1: row 2i holds gm M_ij on columns 2j, row 2i+1
+    holds gk K_ij on columns 2j+1 (j = i-1, i, i+1), three entries a row
+    (zeros between bodies kept).  Built directly, without the 2 x 2 blocks,
+    to keep the set-up memory small."""
+    _, _, gm, gk = recurrence(dt)
+    n = layout.nnodes
+    nodes = np.arange(n0, n1)
+    cols = nodes[:, None] + np.array([-1, 0, 1])                       # (nl, 3)
+    valid = (cols >= 0) & (cols < n)
+    pad = np.zeros(1)
+    m = np.column_stack([np.r_[pad, layout.m_off][nodes], layout.m_diag[nodes],
+                         np.r_[layout.m_off, pad][nodes]])
+    k = np.column_stack([np.r_[pad, layout.k_off][nodes], layout.k_diag[nodes],
+                         np.r_[layout.k_off, pad][nodes]])
+    data = np.stack([gm * m, gk * k], axis=1)                          # (nl, 2, 3)
+    dofs = 2 * cols[:, None, :] + np.arange(2)[None, :, None]
+    mask = np.broadcast_to(valid[:, None, :], data.shape)
+    indptr = np.concatenate(([0], np.cumsum(mask.sum(axis=2).ravel())))
+    return indptr, dofs[mask], data[mask]
