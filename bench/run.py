@@ -27,7 +27,7 @@ TARGETS = (1e-4, 1e-6, 1e-8)
 
 
 def slabs_for(elements):
-    return int(min(1000, max(50, 1e7 / elements)))
+    return int(min(1000, max(50, 3e7 / elements)))
 
 
 def measure(quick):
