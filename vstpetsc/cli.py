@@ -1,7 +1,8 @@
-"""Command line: parse, validate, call the library, report.
+"""Command line: parse, call the library, report.
 
 Exit status: 0 success, 2 bad case or arguments (one line per problem on
-stderr, no traceback), 3 failed solve (result file kept, status "failed").
+stderr, no traceback), 3 failed solve (result file kept, status "failed"),
+128 + signal number when stopped by SIGTERM or SIGINT.
 """
 
 import os
@@ -28,6 +29,8 @@ class UsageError(ValueError):
 def split_args(argv):
     """Separate our options from PETSc's (single-dash options and their
     values, which may be negative numbers)."""
+    from vstpetsc.petsc.options import is_value
+
     ours, petsc = [], []
     i = 0
     while i < len(argv):
@@ -42,21 +45,11 @@ def split_args(argv):
             i += 1
         else:
             petsc.append(tok)
-            if i + 1 < len(argv) and _is_value(argv[i + 1]):
+            if i + 1 < len(argv) and is_value(argv[i + 1]):
                 petsc.append(argv[i + 1])
                 i += 1
             i += 1
     return ours, petsc
-
-
-def _is_value(tok):
-    if not tok.startswith("-"):
-        return True
-    try:
-        float(tok)
-        return True
-    except ValueError:
-        return False
 
 
 def parse_options(args, positional, flags=(), valued=("-o", "--output")):
@@ -113,6 +106,8 @@ def main(argv=None):
         from vstpetsc import __version__
         print(f"vstpetsc {__version__}")
         return 0
+    from vstpetsc.errors import CaseError, InputError, Interrupted, SolveFailed
+
     command, rest = argv[0], argv[1:]
     commands = {"run": _run, "example": _example, "info": _info, "plot": _plot}
     if command not in commands:
@@ -120,8 +115,14 @@ def main(argv=None):
                      EXIT_BAD_INPUT)
     try:
         return commands[command](rest)
-    except UsageError as exc:
+    except CaseError as exc:
+        return _fail(exc.problems, EXIT_BAD_INPUT)
+    except (UsageError, InputError) as exc:
         return _fail([str(exc)], EXIT_BAD_INPUT)
+    except Interrupted as exc:
+        return _fail([str(exc)], 128 + exc.signum, kind="")
+    except SolveFailed as exc:
+        return _fail([str(exc)], EXIT_SOLVE_FAILED)
     except KeyboardInterrupt:           # Ctrl-C before the time loop started
         return 128 + 2
     except BrokenPipeError:             # e.g. `vstpetsc info R.h5 | head`
@@ -130,7 +131,8 @@ def main(argv=None):
 
 
 def _run(rest):
-    from vstpetsc.case import CaseError, load_case
+    from vstpetsc.case import Case
+    from vstpetsc.paths import output_problem
 
     ours, petsc_args = split_args(rest)
     opts = parse_options(ours, ["case"], FLAGS, VALUED)
@@ -138,18 +140,12 @@ def _run(rest):
         raise UsageError("run: missing CASE.toml")
     # Validate before PETSc starts: every rank reads the same file and
     # reaches the same verdict, so no rank waits in a collective call.
-    try:
-        case = load_case(opts["case"])
-    except CaseError as exc:
-        return _fail(exc.problems, EXIT_BAD_INPUT)
+    case = Case.from_toml(opts["case"])
     if opts["every"] is not None:
-        try:
-            case.every = int(opts["every"])
-            assert case.every >= 1
-        except (ValueError, AssertionError):
-            raise UsageError(f"--every: must be a whole number >= 1, got "
-                             f"{opts['every']!r}") from None
-    out_path = opts["output"] or case.output_path
+        if not opts["every"].isdigit() or int(opts["every"]) < 1:
+            raise UsageError(f"--every: must be a whole number >= 1, got {opts['every']!r}")
+        case.every = int(opts["every"])
+    out_path = opts["output"] or case.output_file
     if opts["restart"]:
         if opts["output"] and os.path.abspath(opts["output"]) != os.path.abspath(opts["restart"]):
             raise UsageError("--restart appends to its file; give no other -o")
@@ -157,36 +153,45 @@ def _run(rest):
         if not os.path.isfile(out_path):
             raise UsageError(f"--restart: {out_path}: no such file")
     if opts["--dry-run"]:
-        from vstpetsc.run import build_model, describe_model
+        from vstpetsc.driver import describe_model
+        from vstpetsc.model import build_model
         if _rank() == 0:
             print(describe_model(case, build_model(case), out_path))
         return 0
-    problem = _unwritable(out_path)
+    problem = output_problem(out_path)
     if problem:
-        key = "-o" if opts["output"] else "output.path"
-        return _fail([f"{key}: {problem}"], EXIT_BAD_INPUT)
+        raise UsageError(f"{'-o' if opts['output'] else 'output.path'}: {problem}")
+    return _solve(case, out_path, petsc_args, opts)
 
-    import petsc4py
-    petsc4py.init([sys.argv[0]] + petsc_args)
-    from vstpetsc.run import BadOption, Interrupted, run
-    from vstpetsc.solver import SolveFailed
 
+def _solve(case, out_path, petsc_args, opts):
+    from vstpetsc import petsc, run
+    from vstpetsc.errors import Interrupted, SolveFailed
+    from vstpetsc.petsc.options import translate
+
+    petsc.initialize(translate(petsc_args))
     try:
-        run(case, out_path, petsc_options=" ".join(petsc_args), quiet=opts["--quiet"],
-            restart=bool(opts["restart"]))
-    except BadOption as exc:
-        return _fail([str(exc)], EXIT_BAD_INPUT)
+        result = run(case, out_path, options=petsc_args, quiet=opts["--quiet"],
+                     restart=bool(opts["restart"]))
     except Interrupted as exc:
-        return _fail([f"{exc}; result kept in {out_path} (status \"interrupted\")"],
-                     128 + exc.signum, kind="")
+        raise Interrupted(exc.signum, f"{exc}; result kept in {out_path} "
+                          "(status \"interrupted\")") from None
     except SolveFailed as exc:
-        return _fail([f"{exc}; result kept in {out_path} (status \"failed\")"],
-                     EXIT_SOLVE_FAILED)
+        raise SolveFailed(f"{exc}; result kept in {out_path} (status \"failed\")") from None
+    info = result.run
+    if _rank() == 0:
+        e0, e1 = info.energy0, info.energy1
+        rel = (e1 - e0) / e0 if e0 else float("nan")
+        print(f"completed {info.slabs} slabs in {info.wall:.2f} s "
+              f"({1e3 * info.wall / max(info.slabs, 1):.3f} ms/slab); "
+              f"energy {e0:.6g} -> {e1:.6g} ({100 * rel:+.3f} %); result: {out_path}",
+              flush=True)
     return 0
 
 
 def _example(rest):
     from vstpetsc import bundled
+    from vstpetsc.paths import output_problem
 
     opts = parse_options(rest, ["name"])
     if opts["name"] is None:
@@ -204,7 +209,7 @@ def _example(rest):
     out = opts["output"] or f"{opts['name']}.toml"
     if opts["output"] is None and os.path.exists(out):
         raise UsageError(f"example: {out} exists; give -o {out} to overwrite it")
-    problem = _unwritable(out)
+    problem = output_problem(out)
     if problem:
         raise UsageError(f"-o: {problem}")
     with open(out, "w") as f:
@@ -213,52 +218,33 @@ def _example(rest):
     return 0
 
 
-def _result_path(opts, command):
-    path = opts["result"]
-    if path is None:
+def _result(opts, command):
+    from vstpetsc.results.reader import Result
+
+    if opts["result"] is None:
         raise UsageError(f"{command}: missing RESULT.h5")
-    if not os.path.isfile(path):
-        raise UsageError(f"{path}: no such file")
-    import h5py
-    try:
-        with h5py.File(path, "r") as f:
-            missing = [k for k in ("time", "body", "contact", "energy", "solver") if k not in f]
-    except OSError:
-        raise UsageError(f"{path}: not an HDF5 file") from None
-    if missing:
-        raise UsageError(f"{path}: not a vstpetsc result (no {', '.join(missing)})")
-    return path
+    return Result(opts["result"])
 
 
 def _info(rest):
-    from vstpetsc.summary import format_summary, summarize
+    from vstpetsc.results.summary import format_summary
 
     opts = parse_options(rest, ["result"], valued=())
-    path = _result_path(opts, "info")
-    print(format_summary(summarize(path), path))
+    result = _result(opts, "info")
+    print(format_summary(result.summary(), result.path))
     return 0
 
 
 def _plot(rest):
+    from vstpetsc.paths import output_problem
+
     opts = parse_options(rest, ["result"])
-    path = _result_path(opts, "plot")
-    out = opts["output"] or os.path.splitext(path)[0] + ".png"
-    problem = _unwritable(out)
+    result = _result(opts, "plot")
+    out = opts["output"] or os.path.splitext(result.path)[0] + ".png"
+    problem = output_problem(out)
     if problem:
         raise UsageError(f"-o: {problem}")
-    from vstpetsc.plot import plot_result
-    plot_result(path, out)
+    from vstpetsc.results.plot import plot_result
+    plot_result(result, out)
     print(f"wrote {out}")
     return 0
-
-
-def _unwritable(path):
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        return f"folder {folder} does not exist"
-    if os.path.isdir(path):
-        return f"{path} is a folder"
-    if not os.access(folder, os.W_OK) or (os.path.exists(path) and
-                                           not os.access(path, os.W_OK)):
-        return f"cannot write {path}"
-    return None

@@ -18,29 +18,29 @@ RM = np.array([[0.0, 1.0], [0.0, 0.0]])
 RK = np.array([[-0.5, 0.0], [-0.5, 0.0]])
 
 
-def node_blocks(layout, cm, ck):
+def node_blocks(ops, cm, ck):
     """Blocks ``cm * M_ij + ck * K_ij`` of a 2N x 2N operator.
 
     Returns an array (N, 3, 2, 2): ``[i, 0]`` couples node i to i-1, ``[i, 1]``
     to itself, ``[i, 2]`` to i+1 (zero where there is no such node).
     """
-    n = layout.nnodes
+    n = ops.m_diag.size
     mb, kb = np.zeros((n, 3)), np.zeros((n, 3))
-    mb[:, 1], kb[:, 1] = layout.m_diag, layout.k_diag
-    mb[1:, 0], kb[1:, 0] = layout.m_off, layout.k_off
-    mb[:-1, 2], kb[:-1, 2] = layout.m_off, layout.k_off
+    mb[:, 1], kb[:, 1] = ops.m_diag, ops.k_diag
+    mb[1:, 0], kb[1:, 0] = ops.m_off, ops.k_off
+    mb[:-1, 2], kb[:-1, 2] = ops.m_off, ops.k_off
     return mb[..., None, None] * cm + kb[..., None, None] * ck
 
 
-def slab_matrix(layout, dt, w=np.eye(2), v=np.eye(2)):
+def slab_matrix(ops, dt, w=np.eye(2), v=np.eye(2)):
     """Blocks of [A] = HM (x) M + dt^2 HK (x) K; with per-node transforms,
     of (W (x) I) A (V (x) I) (test functions mixed by W, unknowns x = V z)."""
-    return node_blocks(layout, w @ HM @ v, dt * dt * w @ HK @ v)
+    return node_blocks(ops, w @ HM @ v, dt * dt * w @ HK @ v)
 
 
-def rhs_operator(layout, dt, w=np.eye(2)):
+def rhs_operator(ops, dt, w=np.eye(2)):
     """Blocks of the operator R with r = R (u^n, v^{n-}) (or of W R)."""
-    return node_blocks(layout, w @ RM, dt * w @ RK)
+    return node_blocks(ops, w @ RM, dt * w @ RK)
 
 
 def impose_dirichlet(blocks, dofs, diagonal):
@@ -82,11 +82,10 @@ def block_rows_bcsr(blocks, n0, n1):
     return indptr, col_node[valid], blocks[n0:n1][valid]
 
 
-def advance_blocks(nnodes, dt):
-    """Per-node blocks Q of the state update Y <- mask * Y + Q X, with
+def advance_block(dt):
+    """The per-node block Q of the state update Y <- mask * Y + Q X, with
     mask = (1, 0) per node: u += dt/2 (v^1 + v^2), v = v^2."""
-    q = np.array([[0.5 * dt, 0.5 * dt], [0.0, 1.0]])
-    return np.broadcast_to(q, (nnodes, 2, 2))
+    return np.array([[0.5 * dt, 0.5 * dt], [0.0, 1.0]])
 
 
 # R (mask * Y) = T R Y: after a slab, the right-hand side keeps only its
@@ -112,7 +111,7 @@ def recurrence(dt):
     and z_2 is the displacement increment u^{n+1} - u^n.  The state (u, v)
     is no longer needed per slab.  Returns (W, V, gm, gk)."""
     eye = np.eye(2)
-    q = advance_blocks(1, dt)[0]
+    q = advance_block(dt)
     xm = (CARRY - eye) @ HM + RM @ q
     xk = dt * dt * (CARRY - eye) @ HK + dt * RK @ q
     a = np.column_stack([xm[:, np.abs(xm).max(axis=0).argmax()],
@@ -125,22 +124,22 @@ def recurrence(dt):
     return w, v, gm[0, 0], gk[1, 1]
 
 
-def increment_rows(layout, dt, n0, n1):
+def increment_rows(ops, dt, n0, n1):
     """CSR arrays (indptr, indices, data) of the running-sum increment, dof
     rows of nodes n0..n1-1: row 2i holds gm M_ij on columns 2j, row 2i+1
     holds gk K_ij on columns 2j+1 (j = i-1, i, i+1), three entries a row
     (zeros between bodies kept).  Built directly, without the 2 x 2 blocks,
     to keep the set-up memory small."""
     _, _, gm, gk = recurrence(dt)
-    n = layout.nnodes
+    n = ops.m_diag.size
     nodes = np.arange(n0, n1)
     cols = nodes[:, None] + np.array([-1, 0, 1])                       # (nl, 3)
     valid = (cols >= 0) & (cols < n)
     pad = np.zeros(1)
-    m = np.column_stack([np.r_[pad, layout.m_off][nodes], layout.m_diag[nodes],
-                         np.r_[layout.m_off, pad][nodes]])
-    k = np.column_stack([np.r_[pad, layout.k_off][nodes], layout.k_diag[nodes],
-                         np.r_[layout.k_off, pad][nodes]])
+    m = np.column_stack([np.r_[pad, ops.m_off][nodes], ops.m_diag[nodes],
+                         np.r_[ops.m_off, pad][nodes]])
+    k = np.column_stack([np.r_[pad, ops.k_off][nodes], ops.k_diag[nodes],
+                         np.r_[ops.k_off, pad][nodes]])
     data = np.stack([gm * m, gk * k], axis=1)                          # (nl, 2, 3)
     dofs = 2 * cols[:, None, :] + np.arange(2)[None, :, None]
     mask = np.broadcast_to(valid[:, None, :], data.shape)

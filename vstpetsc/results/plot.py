@@ -1,14 +1,15 @@
 """One figure of a result file: (a) velocity over space and time, (b) contact
 force, (c) energies.  The only module that imports matplotlib."""
 
-import h5py
 import numpy as np
+
+from vstpetsc.results import layout
+from vstpetsc.results.reader import Result, text
 
 
 def units(attrs):
     """Axis units from the result's root attributes (SI by default)."""
-    get = lambda k, d: (attrs.get(k, d).decode() if isinstance(attrs.get(k, d), bytes)
-                        else str(attrs.get(k, d)))
+    get = lambda k, d: text(attrs.get(k, d))
     L, T, M = get("unit_length", "m"), get("unit_time", "s"), get("unit_mass", "kg")
     si = (L, T, M) == ("m", "s", "kg")
     return {"length": L, "time": T, "velocity": f"{L}/{T}",
@@ -16,36 +17,36 @@ def units(attrs):
             "energy": "J" if si else f"{M} {L}^2/{T}^2"}
 
 
-def plot_result(path, out, max_rows=800):
-    """Write the three-panel figure of result file ``path`` to ``out`` (PNG)."""
+def plot_result(result, out, max_rows=800):
+    """Write the three-panel figure of ``result`` (a Result or a path) to
+    ``out`` (PNG)."""
     import matplotlib.pyplot as plt
 
-    fig = result_figure(path, max_rows)
+    fig = result_figure(result, max_rows)
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return out
 
 
-def result_figure(path, max_rows=800):
-    """The three-panel figure of result file ``path`` (a matplotlib Figure)."""
+def result_figure(result, max_rows=800):
+    """The three-panel figure of ``result`` (a Result or a path; a
+    matplotlib Figure)."""
     import matplotlib
     if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg", "cairo"):
         matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.ticker import MaxNLocator
 
-    with h5py.File(path, "r") as f:
-        a = dict(f.attrs)
-        u = units(a)
-        t = f["time"][:]
-        rows = np.unique(np.linspace(0, t.size - 1, min(t.size, max_rows)).astype(int))
-        bodies = sorted(((g["x"][:], g["v"][rows, :], name) for name, g in f["body"].items()),
-                        key=lambda b: b[0][0])
-        pairs = [(f[f"contact/{k}/force"][:], dict(f[f"contact/{k}"].attrs))
-                 for k in sorted(f["contact"], key=int)]
-        kin, strain = f["energy/kinetic"][:], f["energy/strain"][:]
-    status = a.get("status", "")
-    status = status.decode() if isinstance(status, bytes) else str(status)
+    r = result if isinstance(result, Result) else Result(result)
+    a = r.attrs
+    u = units(a)
+    t = r.time
+    rows = np.unique(np.linspace(0, t.size - 1, min(t.size, max_rows)).astype(int))
+    bodies = [(r.body(name).x, r.read(layout.body_path(name, "v"), np.s_[rows, :]), name)
+              for name in r.bodies]
+    pairs = [(r.contact(k).force, r.contact(k).attrs) for k in range(r.ncontacts)]
+    kin, strain = r.energy["kinetic"], r.energy["strain"]
+    status = text(a.get("status", ""))
 
     fig = plt.figure(figsize=(11, 8.5), constrained_layout=True)
     grid = fig.add_gridspec(2, 2, height_ratios=[1.35, 1])
@@ -70,8 +71,7 @@ def result_figure(path, max_rows=800):
 
     ax_f = fig.add_subplot(grid[1, 0])
     for k, (force, attrs) in enumerate(pairs):
-        name = attrs.get("pair", str(k))
-        name = name.decode() if isinstance(name, bytes) else str(name)
+        name = text(attrs.get("pair", str(k)))
         ax_f.step(t, force, where="pre", label=f"[{k}] {name.replace(',', ' | ')}")
     if pairs:
         ax_f.legend(fontsize=8)

@@ -1,16 +1,11 @@
-"""The result file (HDF5, layout of docs/result-file.md).  Written by rank 0
+"""Writes a result file (names: :mod:`vstpetsc.results.layout`).  Rank 0
 only; every kept slab is appended and flushed as it is computed."""
 
 import h5py
 import numpy as np
 
 from vstpetsc import __version__
-
-
-INTEGER_SERIES = ("solver/newton_iterations", "solver/linear_iterations", "solver/slab")
-# Extensions: running totals over every slab (exact whatever `every` is).
-CONTACT_TOTALS = ("impulse_total", "contact_time", "episodes", "force_peak",
-                  "first_contact")
+from vstpetsc.results import layout
 
 
 class ResultWriter:
@@ -19,12 +14,13 @@ class ResultWriter:
     Parameters
     ----------
     path : str
-    bodies : list of (name, x_nodes, n_elements)
-    contacts : list of dict of attributes per pair
+    series : list of (dataset name, row shape), from layout.series
+    statics : dict of datasets written once (node coordinates)
+    groups : dict of group attributes
     attrs : dict of root attributes (status is set here)
     """
 
-    def __init__(self, path, bodies, contacts, attrs):
+    def __init__(self, path, series, statics, groups, attrs):
         self.f = h5py.File(path, "w")
         self.n = 0
         f = self.f
@@ -32,29 +28,22 @@ class ResultWriter:
         f.attrs["version"] = __version__
         for k, v in attrs.items():
             f.attrs[k] = v
+        for name, data in statics.items():
+            f.create_dataset(name, data=data)
+        for group, group_attrs in groups.items():
+            g = f.require_group(group)
+            for k, v in group_attrs.items():
+                g.attrs[k] = v
         self.series = {}
-        self._series("time", ())
-        for name, x, ne in bodies:
-            g = f.create_group(f"body/{name}")
-            g.create_dataset("x", data=x)
-            for key, width in (("u", x.size), ("v", x.size), ("stress", ne)):
-                self._series(f"body/{name}/{key}", (width,))
-        for k, meta in enumerate(contacts):
-            g = f.require_group(f"contact/{k}")
-            for key, val in meta.items():
-                g.attrs[key] = val
-            for key in ("gap", "force", "impulse") + CONTACT_TOTALS:
-                self._series(f"contact/{k}/{key}", ())
-        for key in ("energy/kinetic", "energy/strain", "solver/newton_iterations",
-                    "solver/linear_iterations", "solver/wall_time", "solver/slab"):
-            self._series(key, ())
-        f.require_group("contact")
+        for name, tail in series:
+            self._create(name, tail)
+        f.require_group(layout.CONTACT)
         f.flush()
 
-    def _series(self, name, tail):
+    def _create(self, name, tail):
         width = int(np.prod(tail)) if tail else 1
         rows = max(1, min(4096, 65536 // width))
-        dtype = "i8" if name in INTEGER_SERIES else "f8"
+        dtype = "i8" if name in layout.INTEGER_SERIES else "f8"
         ds = self.f.create_dataset(
             name, shape=(0,) + tail, maxshape=(None,) + tail, chunks=(rows,) + tail,
             dtype=dtype)
@@ -75,7 +64,7 @@ class ResultWriter:
         self.f.visititems(lambda name, obj: self._track(name, obj)
                           if isinstance(obj, h5py.Dataset) and obj.maxshape[0] is None
                           else None)
-        self.n = self.f["time"].shape[0]
+        self.n = self.f[layout.TIME].shape[0]
         for k, v in attrs.items():
             self.f.attrs[k] = v
         self.f.attrs["status"] = "running"
@@ -98,9 +87,9 @@ class ResultWriter:
     def save_rhs_state(self, b, slab):
         """Keep the running right-hand side after ``slab`` (for a bit-for-bit
         restart); replaces the one kept before."""
-        if "solver/rhs_state" in self.f:
-            del self.f["solver/rhs_state"]
-        ds = self.f.create_dataset("solver/rhs_state", data=b)
+        if layout.RHS_STATE in self.f:
+            del self.f[layout.RHS_STATE]
+        ds = self.f.create_dataset(layout.RHS_STATE, data=b)
         ds.attrs["slab"] = slab
 
     def close(self, status, **attrs):

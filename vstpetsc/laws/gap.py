@@ -1,4 +1,5 @@
-"""Penalty contact in velocity (formulation.md sections 3-6).  Pure numpy.
+"""The gap of a contact pair inside a slab and the exact penalty integrals
+over its active part (formulation.md sections 3-6).  Pure numpy.
 
 Inside a slab the gap of a pair is the quadratic
 
@@ -13,46 +14,9 @@ polynomials of degree <= 4).  The residual of node ``n_k`` gets
 I_a for the seed's penalty and T_a for the consistent ("power") one.
 """
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from vstpetsc.history import GAUSS_W, GAUSS_X
-
-DEFAULT_BETA = 50.0
-
-
-@dataclass
-class ContactPair:
-    """One contact pair in mesh terms.
-
-    ``nodes`` are one or two global node numbers with ``signs`` (+1: the
-    node's body is on the left of the gap, -1: on the right); a wall pair has
-    one node.  ``g0`` is the initial gap, ``penalty`` the weight w of the
-    residual term and ``formulation`` "seed" or "power".
-    """
-
-    nodes: tuple
-    signs: tuple
-    g0: float
-    penalty: float
-    formulation: str
-    stiffness: float = 0.0  # E A / h of the stiffer side, the penalty's scale
-
-
-def default_penalty(formulation, stiffness, dt, beta=DEFAULT_BETA):
-    """Penalty used when the case gives none.
-
-    "power": k = beta E A / h, a contact spring ``beta`` times as stiff as
-    the stiffer element at the pair.  "seed": eps = 2 k / dt, the seed's
-    penalty with the same slab-mean force per unit penetration (its residual
-    weight I_a carries one more power of time, so eps has units of
-    force / (length time)).  formulation.md section 4 suggests
-    ``beta (E A / h) / dt^2``; that is not dimensionally consistent (the
-    contact stiffness would change with the unit of time), so we use 1/dt.
-    """
-    k = beta * stiffness
-    return k if formulation == "power" else 2.0 * k / dt
 
 
 def gap_coefficients(gn, d1, d2, dt):

@@ -1,0 +1,157 @@
+"""Validation of case tables: one :class:`Checker` collects every problem as
+``table.key: what is wrong``; its readers return a usable value or None.
+
+Every reader starts with the same prologue (:meth:`Checker.take`): a missing
+key is reported when required and gives the default otherwise.
+"""
+
+import difflib
+import math
+import numbers
+
+from vstpetsc.history import History
+
+MISSING = object()
+
+
+class Checker:
+    """Collects problems; each reader returns a usable value or None."""
+
+    def __init__(self):
+        self.problems = []
+
+    def add(self, where, msg):
+        self.problems.append(f"{where}: {msg}")
+
+    def take(self, tbl, key, where, required, default=None):
+        """The value of ``key`` or MISSING (reported when required)."""
+        if key in tbl:
+            return tbl[key]
+        if required:
+            self.add(f"{where}.{key}", "missing required key")
+            return MISSING
+        return default if default is not None else MISSING
+
+    def table(self, doc, key, where, required):
+        val = doc.get(key)
+        if val is None:
+            if required:
+                self.add(where, "missing table")
+            return {}
+        if not isinstance(val, dict):
+            self.add(where, f"must be a table, got {show(val)}")
+            return {}
+        return val
+
+    def tables(self, doc, key):
+        """An array of tables ([[key]]), or [] after reporting."""
+        val = doc.get(key, [])
+        if not isinstance(val, list) or not all(isinstance(t, dict) for t in val):
+            self.add(key, f"must be an array of tables ([[{key}]]), got {show(val)}")
+            return []
+        return val
+
+    def unknown(self, tbl, allowed, where):
+        for k in tbl:
+            if k not in allowed:
+                close = difflib.get_close_matches(str(k), allowed, n=1)
+                hint = f"did you mean {close[0]!r}? " if close else ""
+                self.add(f"{where}.{k}" if where else str(k),
+                         f"unknown key ({hint}allowed: {', '.join(allowed)})")
+
+    def number(self, tbl, key, where, required=True, default=None, positive=False,
+               minimum=None, maximum=None):
+        val = self.take(tbl, key, where, required, default)
+        if val is MISSING:
+            return None
+        name = f"{where}.{key}"
+        if not is_number(val):
+            self.add(name, f"must be a number, got {show(val)}")
+            return None
+        val = float(val)
+        if not math.isfinite(val):
+            self.add(name, f"must be finite, got {val}")
+        elif positive and val <= 0:
+            self.add(name, f"must be positive, got {val:g}")
+        elif minimum is not None and val < minimum:
+            self.add(name, f"must be >= {minimum:g}, got {val:g}")
+        elif maximum is not None and val > maximum:
+            self.add(name, f"must be <= {maximum:g}, got {val:g}")
+        else:
+            return val
+        return None
+
+    def integer(self, tbl, key, where, required=True, default=None, minimum=1):
+        val = self.take(tbl, key, where, required, default)
+        if val is MISSING:
+            return None
+        if isinstance(val, bool) or not isinstance(val, numbers.Integral):
+            self.add(f"{where}.{key}", f"must be a whole number, got {show(val)}")
+            return None
+        if val < minimum:
+            self.add(f"{where}.{key}", f"must be >= {minimum}, got {val}")
+            return None
+        return int(val)
+
+    def string(self, tbl, key, where, required=True, default=None, choices=None):
+        val = self.take(tbl, key, where, required, default)
+        if val is MISSING:
+            return None
+        if not isinstance(val, str):
+            self.add(f"{where}.{key}", f"must be a string, got {show(val)}")
+            return None
+        if choices and val not in choices:
+            self.add(f"{where}.{key}",
+                     f"must be one of {', '.join(map(repr, choices))}, got {val!r}")
+            return None
+        return val
+
+    def history(self, tbl, key, where, axis, required=False):
+        """A number or a [[axis, value], ...] table with increasing axis;
+        an absent optional key is the constant 0."""
+        val = self.take(tbl, key, where, required)
+        if val is MISSING:
+            return None if required else History()
+        name = f"{where}.{key}"
+        if is_number(val):
+            if not math.isfinite(val):
+                self.add(name, f"must be finite, got {val}")
+                return None
+            return History(value=float(val))
+        if not isinstance(val, list):
+            self.add(name, f"must be a number or a [[{axis}, value], ...] table, "
+                     f"got {show(val)}")
+            return None
+        rows = self.rows(val, name, axis)
+        return None if rows is None else History(rows)
+
+    def rows(self, val, name, axis):
+        """Rows [[axis, value], ...] with a strictly increasing axis, or None."""
+        if len(val) < 2:
+            self.add(name, f"a table needs at least two [{axis}, value] rows, got {len(val)}")
+            return None
+        for i, row in enumerate(val):
+            if not isinstance(row, list) or len(row) != 2 or not all(map(is_number, row)):
+                self.add(name, f"row {i} must be a pair of numbers [{axis}, value], "
+                         f"got {show(row)}")
+                return None
+            if not all(math.isfinite(c) for c in row):
+                self.add(name, f"row {i} must be finite, got {row}")
+                return None
+        axis_vals = [r[0] for r in val]
+        if any(b <= a for a, b in zip(axis_vals, axis_vals[1:])):
+            self.add(name, f"the {axis} column must be strictly increasing")
+            return None
+        return [[float(a), float(b)] for a, b in val]
+
+
+def is_number(val):
+    return isinstance(val, numbers.Real) and not isinstance(val, bool)
+
+
+def show(val):
+    kind = {str: "a string", bool: "a boolean", list: "an array", dict: "a table"}
+    for typ, word in kind.items():
+        if isinstance(val, typ):
+            return f"{word} {val!r}" if typ is not dict else word
+    return repr(val)

@@ -1,0 +1,325 @@
+"""Running a case: the time loop (solve the slab, update the laws, record),
+progress, signals and restarts.  :func:`run` is the library's entry point;
+the command line is a thin shell over it.  Collective over ``comm``."""
+
+import signal
+import sys
+import threading
+import time
+from dataclasses import dataclass
+
+from vstpetsc import model as model_mod
+from vstpetsc.errors import InputError, Interrupted, SolveFailed
+from vstpetsc.loading import SlabLoads
+from vstpetsc.results import layout
+from vstpetsc.results.reader import Result
+
+
+@dataclass
+class RunInfo:
+    """What one call of :func:`run` did."""
+
+    slabs: int          # slabs computed by this call
+    wall: float         # seconds, set-up included
+    energy0: float      # kinetic + strain at t = 0
+    energy1: float      # kinetic + strain at the last kept row
+
+
+def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
+        out=None, err=None):
+    """Solve ``case`` and write its result file.
+
+    Parameters
+    ----------
+    case : vstpetsc.Case
+    output : str, optional
+        The result file; default ``case.output_file``.  With ``restart``, the
+        file to continue (appended to).
+    options : sequence of str, optional
+        PETSc options for this run's solvers, written as on a command line
+        (``["-ksp_type", "gmres", "-snes_monitor"]``); see docs/solver.md.
+    quiet : bool
+        No header and no progress line.
+    comm : PETSc or mpi4py communicator, optional
+        Default PETSc.COMM_WORLD (every rank of an mpirun).
+    restart : bool
+        Continue the run stored in ``output`` from its last row.
+    out, err : text streams, optional
+        Where the header and the progress line go (stdout, stderr).
+
+    Returns
+    -------
+    vstpetsc.Result
+        The result file, with ``.run`` a :class:`RunInfo`.
+
+    Raises
+    ------
+    vstpetsc.InputError
+        An option or the output cannot be used (nothing written).
+    vstpetsc.SolveFailed
+        A slab could not be solved: the file keeps every slab before it,
+        with status "failed".
+    vstpetsc.Interrupted
+        SIGTERM or SIGINT: the file keeps every slab so far, status
+        "interrupted"; continue with ``restart=True``.
+    """
+    from vstpetsc import petsc
+    PETSc = petsc.initialize()
+    from vstpetsc.petsc.options import scoped
+
+    comm = PETSc.COMM_WORLD if comm is None else PETSc.Comm(comm)
+    output = case.output_file if output is None else str(output)
+    with scoped(options):
+        loop = TimeLoop(case, output, comm, quiet, out or sys.stdout, err or sys.stderr)
+        info = loop.execute(restart, " ".join(map(str, options)))
+    comm.barrier()
+    result = Result(output)
+    result.run = info
+    return result
+
+
+class TimeLoop:
+    """One run: the model, its solver, the writer and the loop over slabs."""
+
+    def __init__(self, case, output, comm, quiet, out, err):
+        from vstpetsc.petsc.options import SolverOptions
+        from vstpetsc.petsc.slab_solver import SlabSolver
+
+        self.case, self.output, self.comm = case, output, comm
+        self.rank0 = comm.getRank() == 0
+        self.talk = self.rank0 and not quiet
+        self.out, self.err = out, err
+        self.model = model_mod.build_model(case)
+        t0 = time.perf_counter()
+        options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
+        try:
+            self.solver = SlabSolver(self.model, case.dt, comm, options)
+        except Exception as exc:
+            raise InputError(_setup_problem(exc)) from None
+        self.start = t0
+        self.setup_time = time.perf_counter() - t0
+        self.loads = SlabLoads(self.model.laws)
+        self.writer = None
+
+    def execute(self, restart, petsc_options):
+        """Solve every slab; return a RunInfo."""
+        case, model = self.case, self.model
+        if restart:
+            k0, u, v, energy0, rhs = load_restart(self.output, case, model)
+        else:
+            k0, rhs = 0, None
+            u, v = model_mod.initial_state(model)
+            energy0 = model_mod.kinetic_energy(model.ops, v) + model_mod.strain_energy(model.ops, u)
+        self.solver.set_state(u, v)
+        if rhs is not None:
+            self.solver.set_rhs_state(rhs)
+        if self.talk:
+            self.out.write(header(case, model, self.output, self.solver, self.comm.getSize()))
+            if restart:
+                self.out.write(f"  restart from slab {k0} (t = {k0 * case.dt:g})\n")
+            self.out.flush()
+        if self.rank0:
+            self._open_writer(restart, petsc_options, u, v)
+        energy1 = self._loop(k0)
+        wall = time.perf_counter() - self.start
+        rhs = self.solver.rhs_state()        # collective
+        if self.writer:
+            self.writer.save_rhs_state(rhs, case.nslabs)
+            self.writer.close("completed", slabs_done=case.nslabs, wall_time=wall,
+                              setup_time=self.setup_time)
+        return RunInfo(case.nslabs - k0, wall, energy0, energy0 if energy1 is None else energy1)
+
+    def _open_writer(self, restart, petsc_options, u, v):
+        from vstpetsc.results.writer import ResultWriter
+
+        case, model = self.case, self.model
+        attrs = {"case": case.text, "petsc_options": petsc_options,
+                 "mpi_size": self.comm.getSize(), "formulation": layout.formulation(model),
+                 "dt": case.dt, "slabs": case.nslabs, "every": case.every,
+                 **{f"unit_{k}": v for k, v in case.units.items()},
+                 "solver": self.solver.describe()}
+        if restart:
+            self.writer = ResultWriter.reopen(self.output, attrs)
+            return
+        self.writer = ResultWriter(self.output, layout.series(model), layout.statics(model),
+                                   layout.group_attrs(model), attrs)
+        self.writer.append(layout.row(model, 0, case.dt, u, v, (0, 0), 0.0))
+
+    def _loop(self, k0):
+        """Slabs k0+1 .. n; the energy of the last kept row (None if none)."""
+        case, solver = self.case, self.solver
+        n, dt = case.nslabs, case.dt
+        progress = Progress(n - k0, self.err if self.talk else None)
+        energy1, k = None, k0
+        with StopSignals() as stop:
+            try:
+                for k in range(k0 + 1, n + 1):
+                    t0, t1 = (k - 1) * dt, k * dt
+                    solver.rhs(*self.loads(t0, t1))
+                    its = solver.solve(k)
+                    solver.laws.finish_slab(t0, dt)
+                    solver.advance()
+                    signum = self.solver.space.max_over_ranks(stop.signum)
+                    if k % case.every == 0 or k == n or signum:
+                        energy1 = self._record(k, its)
+                    progress.update(k - k0, t1, force=k == n)
+                    if signum:
+                        raise Interrupted(signum, f"stopped by {signal.Signals(signum).name} "
+                                          f"after slab {k} (t = {t1:g}); continue with --restart")
+            except Exception as exc:
+                self._stop(exc, k, progress)
+        progress.done()
+        return energy1
+
+    def _record(self, k, its):
+        state = self.solver.gather_state()
+        if not self.rank0:
+            return None
+        u, v = state
+        row = layout.row(self.model, k, self.case.dt, u, v, its, time.perf_counter() - self.start)
+        self.writer.append(row)
+        return row["energy/kinetic"] + row["energy/strain"]
+
+    def _stop(self, exc, k, progress):
+        """End a run that stopped inside the loop: close the file with the
+        right status and raise the error the caller reports."""
+        from petsc4py import PETSc
+
+        if isinstance(exc, PETSc.Error):    # e.g. an option that breaks a solver
+            exc = SolveFailed(f"slab {k}: PETSc error {exc.ierr}: {petsc_message(exc)}")
+        if not isinstance(exc, (SolveFailed, Interrupted)):
+            raise exc
+        status = "interrupted" if isinstance(exc, Interrupted) else "failed"
+        done = k if status == "interrupted" else k - 1
+        progress.done()
+        rhs = self.solver.rhs_state() if status == "interrupted" else None  # collective
+        if self.writer:
+            if rhs is not None:
+                self.writer.save_rhs_state(rhs, k)
+            self.writer.close(status, message=str(exc), slabs_done=done)
+        raise exc from None
+
+
+def load_restart(path, case, model):
+    """(slab, u, v, initial energy, running right-hand side or None) of the
+    last row of result file ``path``, after checking that it continues
+    ``case``; its laws take their running totals back."""
+    import h5py
+
+    from vstpetsc.case import Case
+
+    try:
+        f = h5py.File(path, "r")
+    except OSError:
+        raise InputError(f"--restart: cannot open {path} as an HDF5 file") from None
+    with f:
+        if "solver/slab" not in f or "case" not in f.attrs:
+            raise InputError(f"--restart: {path} has no restart data (not a vstpetsc result)")
+        if Case.from_text(f.attrs["case"]).restart_key() != case.restart_key():
+            raise InputError(f"--restart: the case differs from the one stored in {path} "
+                             "in more than time.end (and output.path)")
+        k0, u, v, values = layout.last_state(f, model)
+        if k0 >= case.nslabs:
+            raise InputError(f"--restart: {path} already reaches slab {k0} (t = "
+                             f"{f['time'][-1]:g}); raise time.end to continue it")
+        for law in model.recorded:
+            law.restore(values[law.group])
+        energy0 = float(f["energy/kinetic"][0] + f["energy/strain"][0])
+        rhs = f.get(layout.RHS_STATE)
+        # kept when the run stopped cleanly; after a failure or a kill the
+        # solver starts again from (u, v), equal up to rounding
+        rhs = rhs[...] if rhs is not None and int(rhs.attrs["slab"]) == k0 else None
+    return k0, u, v, energy0, rhs
+
+
+def header(case, model, output, solver, size):
+    """The run header: the model, then the solver."""
+    return (f"{describe_model(case, model, output)}\n  solver: {solver.describe()} on "
+            f"{size} rank{'s' if size > 1 else ''}\n")
+
+
+def describe_model(case, model, output):
+    """The model summary: bodies, nodes, slabs, and a line per law."""
+    mesh = model.mesh
+    lines = [f"vstpetsc: {case.source}",
+             f"  {len(case.bodies)} bodies, {mesh.nnodes} nodes, {mesh.elem_node.size} "
+             f"elements; dt = {case.dt:g}, {case.nslabs} slabs to t = "
+             f"{case.nslabs * case.dt:g}; keep every {case.every}; result: {output}"]
+    for b in case.bodies:
+        c = (b.E / b.rho) ** 0.5
+        h = (b.x[1] - b.x[0]) / b.elements
+        lines.append(f"  body {b.name}: x = [{b.x[0]:g}, {b.x[1]:g}], {b.elements} elements,"
+                     f" c = {c:.6g}, c dt / h = {c * case.dt / h:.3g}")
+    lines += [f"  {law.describe()}" for law in model.laws if law.describe()]
+    return "\n".join(lines)
+
+
+def petsc_message(exc):
+    """The most specific line of a petsc4py error's traceback."""
+    lines = [l.split("]", 1)[-1].strip() for l in str(exc).strip().splitlines()]
+    text = [l for l in lines if l and "() at " not in l and not l.startswith("error code")]
+    return "; ".join(reversed(text[-2:])) if text else lines[-1]   # most specific first
+
+
+def _setup_problem(exc):
+    """One line for a solver that cannot be set up with the given options."""
+    from petsc4py import PETSc
+
+    if isinstance(exc, PETSc.Error):
+        return ("PETSc could not set up the solver with these options "
+                f"(error {exc.ierr}: {petsc_message(exc)})")
+    if isinstance(exc, InputError):
+        return str(exc)
+    raise exc
+
+
+class Progress:
+    """A progress line on a stream, rewritten at most twice a second."""
+
+    def __init__(self, total, stream):
+        self.total, self.stream = total, stream
+        self.start = time.perf_counter()
+        self.last = -1.0
+
+    def update(self, k, t, force=False):
+        if self.stream is None:
+            return
+        now = time.perf_counter()
+        if not force and now - self.last < 0.5:
+            return
+        self.last = now
+        el = now - self.start
+        eta = el / k * (self.total - k) if k else float("nan")
+        self.stream.write(f"\rslab {k}/{self.total}  t = {t:.6g}  elapsed {el:.1f} s"
+                          f"  ETA {eta:.1f} s   ")
+        self.stream.flush()
+
+    def done(self):
+        if self.stream is not None:
+            self.stream.write("\n")
+            self.stream.flush()
+            self.stream = None
+
+
+class StopSignals:
+    """Turns SIGTERM and SIGINT into a flag that the time loop reads after
+    each slab (the slab in progress is finished and written).  Handlers are
+    installed only where Python allows it (the main thread)."""
+
+    def __init__(self):
+        self.signum = 0
+
+    def __enter__(self):
+        self.previous = {}
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGTERM, signal.SIGINT):
+                self.previous[sig] = signal.signal(sig, self._catch)
+        return self
+
+    def _catch(self, signum, frame):
+        self.signum = signum
+
+    def __exit__(self, *exc):
+        for sig, handler in self.previous.items():
+            signal.signal(sig, handler)
+

@@ -1,0 +1,20 @@
+"""Boundary and interface laws, one module each (protocol: :mod:`.base`).
+
+A module offers ``KEYS`` (its own keys in the case table), ``read(chk, tbl,
+where)`` (validates them; a dict of parameters or None) and ``build(spec,
+index, case, mesh)`` (the :class:`~vstpetsc.laws.base.Law`).  A new law is a
+new module and an entry in one of these registries.
+"""
+
+from vstpetsc.laws import fixed, penalty, traction, velocity
+
+BOUNDARY = {"fixed": fixed, "velocity": velocity, "traction": traction}
+CONTACT = {"seed": penalty, "power": penalty}
+
+
+def build_laws(case, mesh):
+    """Every law of ``case``: its contact pairs in order, then its [[bc]]s."""
+    laws = [CONTACT[c.formulation].build(c, k, case, mesh)
+            for k, c in enumerate(case.contacts)]
+    laws += [BOUNDARY[b.type].build(b, k, case, mesh) for k, b in enumerate(case.bcs)]
+    return laws

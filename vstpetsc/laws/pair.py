@@ -1,0 +1,88 @@
+"""What every contact law shares: a pair of facing ends (or an end and a
+rigid wall), its gap, the running contact totals and the result group
+``/contact/<k>``.  A formulation (penalty.py, ...) adds the force law."""
+
+import numpy as np
+
+from vstpetsc.laws.base import Law
+
+# running totals over every slab (exact whatever `every` is)
+TOTALS = ("impulse_total", "contact_time", "episodes", "force_peak", "first_contact")
+WALL = "wall"
+
+
+class PairLaw(Law):
+    """Pair ``index`` of the case: nodes ``n_k`` with signs ``c_k`` (+1 for
+    the body on the left of the gap, -1 for the one on its right; a wall
+    pair has one node), initial gap ``g0``."""
+
+    series = ("gap", "force", "impulse") + TOTALS
+
+    def __init__(self, spec, index, case, mesh):
+        nodes, signs = [], []
+        if spec.left is not None:
+            nodes.append(mesh.right_node(spec.left))
+            signs.append(1.0)
+        if spec.right is not None:
+            nodes.append(mesh.left_node(spec.right))
+            signs.append(-1.0)
+        self.nodes, self.signs = np.array(nodes), np.array(signs)
+        bodies = case.bodies
+        if spec.left is None:
+            self.g0 = bodies[spec.right].x[0] - spec.wall
+        elif spec.right is None:
+            self.g0 = spec.wall - bodies[spec.left].x[1]
+        else:
+            self.g0 = bodies[spec.right].x[0] - bodies[spec.left].x[1]
+        self.names = tuple(WALL if b is None else bodies[b].name
+                           for b in (spec.left, spec.right))
+        self.wall = spec.wall
+        self.index, self.group = index, f"contact/{index}"
+        self.formulation = spec.formulation
+        self.dt = case.dt
+        self.impulse = 0.0
+        self.totals = dict.fromkeys(TOTALS, 0.0)
+        self.totals["first_contact"] = np.nan
+        self.on = False
+
+    def start_slab(self, u, dt):
+        """Gap at t^n from the displacements of the pair's nodes."""
+        self.gn = self.g0 - self.signs @ u
+
+    def closing_rates(self, v):
+        """d^a = sum_k c_k v_k^a, the rates at which the gap closes."""
+        return self.signs @ v
+
+    def add_impulse(self, impulse, t0, dt):
+        """Record the slab's impulse in the running totals."""
+        self.impulse = impulse
+        on = impulse > 0
+        if not on and not self.on:          # nothing changes (most slabs)
+            return
+        t = self.totals
+        t["episodes"] += on and not self.on
+        self.on = on
+        t["impulse_total"] += impulse
+        t["contact_time"] += dt * on
+        t["force_peak"] = max(t["force_peak"], impulse / dt)
+        if np.isnan(t["first_contact"]) and on:
+            t["first_contact"] = t0
+
+    def gap(self, u):
+        """Gap for the displacements ``u`` of all nodes."""
+        return self.g0 - sum(s * u[n] for n, s in zip(self.nodes, self.signs))
+
+    def values(self, u):
+        return {"gap": self.gap(u), "impulse": self.impulse,
+                "force": self.impulse / self.dt, **self.totals}
+
+    def restore(self, values):
+        self.totals = {k: float(values[k]) for k in TOTALS}
+        self.on = values["impulse"] > 0
+
+    def attrs(self):
+        return {"pair": ",".join(self.names), "formulation": self.formulation,
+                "initial_gap": self.g0, "wall": np.nan if self.wall is None else self.wall}
+
+    def describe(self):
+        return f"contact[{self.index}] {self.names[0]} | {self.names[1]}: gap {self.g0:g}"

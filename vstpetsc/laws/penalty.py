@@ -1,0 +1,87 @@
+"""Penalty contact in velocity: the seed's formulation and the variationally
+consistent ("power") one (formulation.md sections 4 and 5).
+
+Node ``n_k`` of the pair gets the residual ``-c_k w G_a`` with
+``G_a = int min(0, g) phi_a dt`` over the slab, integrated exactly over the
+active part {g < 0} (:mod:`vstpetsc.laws.gap`); ``phi_a`` is I_a for "seed"
+(w = eps) and T_a for "power" (w = k).
+"""
+
+import numpy as np
+
+from vstpetsc.laws.gap import contact_integrals
+from vstpetsc.laws.pair import PairLaw
+
+KEYS = ("penalty",)
+DEFAULT_BETA = 50.0
+
+
+def read(chk, tbl, where):
+    """The formulation's own keys: an optional positive ``penalty``."""
+    penalty = chk.number(tbl, "penalty", where, required=False, positive=True)
+    if penalty is None and "penalty" in tbl:
+        return None
+    return {"penalty": penalty}
+
+
+def default_penalty(formulation, stiffness, dt, beta=DEFAULT_BETA):
+    """Penalty used when the case gives none.
+
+    "power": k = beta E A / h, a contact spring ``beta`` times as stiff as
+    the stiffer element at the pair.  "seed": eps = 2 k / dt, the seed's
+    penalty with the same slab-mean force per unit penetration (its residual
+    weight I_a carries one more power of time, so eps has units of
+    force / (length time)).  formulation.md section 4 once suggested
+    ``beta (E A / h) / dt^2``, which is not dimensionally consistent (the
+    contact stiffness would change with the unit of time), so 1/dt.
+    """
+    k = beta * stiffness
+    return k if formulation == "power" else 2.0 * k / dt
+
+
+class PenaltyContact(PairLaw):
+    """A seed or power penalty pair (``spec.formulation``)."""
+
+    def __init__(self, spec, index, case, mesh):
+        super().__init__(spec, index, case, mesh)
+        self.given = spec.params["penalty"] is not None
+        stiffness = max(mesh.body_stiffness(b) for b in (spec.left, spec.right)
+                        if b is not None)
+        self.penalty = spec.params["penalty"] if self.given else \
+            default_penalty(spec.formulation, stiffness, case.dt)
+        self.power = np.array([spec.formulation == "power"])
+        self.G = np.zeros((1, 2))
+        self.active = False
+
+    def _integrals(self, v):
+        d = self.closing_rates(v)
+        return contact_integrals(np.array([self.gn]), d[:1], d[1:], self.dt, self.power)
+
+    def residual(self, v):
+        G, _, active = self._integrals(v)
+        self.G, self.active = G, bool(active[0])
+        return -(self.signs * self.penalty)[:, None] * G, self.active
+
+    def tangent(self, v):
+        _, W, _ = self._integrals(v)
+        c = self.signs
+        block = (c[:, None, None, None] * c[None, None, :, None] * self.penalty
+                 * W[0][None, :, None, :])
+        n = c.size
+        return block.reshape(2 * n, 2 * n)
+
+    def finish_slab(self, t0, dt):
+        impulse = float(-self.penalty * self.G.sum(axis=1)[0]) if self.active else 0.0
+        self.add_impulse(impulse, t0, dt)
+
+    def attrs(self):
+        return {**super().attrs(), "penalty": self.penalty}
+
+    def describe(self):
+        given = "given" if self.given else "default"
+        return (f"{super().describe()}, {self.formulation} penalty {self.penalty:.6g} "
+                f"({given})")
+
+
+def build(spec, index, case, mesh):
+    return PenaltyContact(spec, index, case, mesh)

@@ -1,0 +1,192 @@
+"""A case in mesh terms: nodes and elements of all bodies, per-element
+material, the tridiagonal bands of M, C and K, and the case's laws.
+
+One global node numbering, left to right; bodies never share a node, so an
+element never joins two bodies and the nodes of a contact pair between two
+bodies are neighbours.  Pure numpy.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vstpetsc.laws import build_laws
+
+
+@dataclass
+class Mesh:
+    """Nodes and elements of all bodies.
+
+    Attributes
+    ----------
+    x : (N,) reference node coordinates.
+    first : (nb + 1,) first node of each body; body ``b`` owns nodes
+        ``first[b]:first[b+1]`` and elements ``first[b]-b:first[b+1]-b-1``.
+    elem_node : (ne,) left node of each element (its right node is +1).
+    elem_body : (ne,) body of each element.
+    h, E, A, rho : (ne,) element length and material.
+    """
+
+    x: np.ndarray
+    first: np.ndarray
+    elem_node: np.ndarray
+    elem_body: np.ndarray
+    h: np.ndarray
+    E: np.ndarray
+    A: np.ndarray
+    rho: np.ndarray
+
+    @property
+    def nnodes(self):
+        return self.x.size
+
+    def nodes(self, body):
+        return slice(int(self.first[body]), int(self.first[body + 1]))
+
+    def elements(self, body):
+        return slice(int(self.first[body]) - body, int(self.first[body + 1]) - body - 1)
+
+    def left_node(self, body):
+        return int(self.first[body])
+
+    def right_node(self, body):
+        return int(self.first[body + 1] - 1)
+
+    def end_node(self, body, end):
+        return self.left_node(body) if end == "left" else self.right_node(body)
+
+    def end_element(self, body, end):
+        el = self.elements(body)
+        return el.start if end == "left" else el.stop - 1
+
+    def body_stiffness(self, body):
+        """The largest E A / h of the body's elements."""
+        el = self.elements(body)
+        return float((self.E[el] * self.A[el] / self.h[el]).max())
+
+
+@dataclass
+class Operators:
+    """The symmetric tridiagonal M and K as diagonals (N,) and the entries
+    (i, i+1) = (i+1, i) (N - 1,), zero between two bodies."""
+
+    m_diag: np.ndarray
+    m_off: np.ndarray
+    k_diag: np.ndarray
+    k_off: np.ndarray
+
+
+@dataclass
+class Model:
+    """A case in mesh terms, with its laws (:mod:`vstpetsc.laws`)."""
+
+    case: object
+    mesh: Mesh
+    ops: Operators
+    laws: list
+
+    @property
+    def nonlinear(self):
+        return [law for law in self.laws if law.nodes.size]
+
+    @property
+    def recorded(self):
+        return [law for law in self.laws if law.group is not None]
+
+
+def build_model(case):
+    """Mesh the bodies, assemble M and K, build the laws and let them add
+    their linear terms."""
+    mesh = build_mesh(case.bodies)
+    ops = element_operators(mesh)
+    laws = build_laws(case, mesh)
+    for law in laws:
+        law.add_operators(ops)
+    return Model(case, mesh, ops, laws)
+
+
+def build_mesh(bodies):
+    """Every body meshed with its own number of equal linear elements."""
+    counts = np.array([b.elements + 1 for b in bodies])
+    first = np.concatenate(([0], np.cumsum(counts)))
+    x = np.concatenate([np.linspace(b.x[0], b.x[1], b.elements + 1) for b in bodies])
+    elem_body = np.repeat(np.arange(len(bodies)), [b.elements for b in bodies])
+    elem_node = np.concatenate([np.arange(first[i], first[i + 1] - 1)
+                                for i in range(len(bodies))])
+    h = x[elem_node + 1] - x[elem_node]
+    per_element = lambda key: np.array([getattr(b, key) for b in bodies])[elem_body]
+    return Mesh(x, first, elem_node, elem_body, h, per_element("E"), per_element("area"),
+                per_element("rho"))
+
+
+def element_operators(mesh):
+    """Consistent mass M_e = rho A h / 6 [[2, 1], [1, 2]] and stiffness
+    K_e = E A / h [[1, -1], [-1, 1]], assembled."""
+    me = mesh.rho * mesh.A * mesh.h / 6.0
+    ke = mesh.E * mesh.A / mesh.h
+    return Operators(*assemble(mesh, 2 * me, me), *assemble(mesh, ke, -ke))
+
+
+def assemble(mesh, diag_e, off_e):
+    """Bands of sum_e [[d, o], [o, d]] over the elements."""
+    n = mesh.nnodes
+    diag, off = np.zeros(n), np.zeros(max(n - 1, 0))
+    # Each node is the left node of at most one element and the right node of
+    # at most one, so the fancy-indexed += below never repeats an index.
+    diag[mesh.elem_node] += diag_e
+    diag[mesh.elem_node + 1] += diag_e
+    off[mesh.elem_node] = off_e
+    return diag, off
+
+
+def band_mult(diag, off, u):
+    """Product of the symmetric tridiagonal matrix (diag, off) with ``u``."""
+    y = diag * u
+    y[:-1] += off * u[1:]
+    y[1:] += off * u[:-1]
+    return y
+
+
+def kinetic_energy(ops, v):
+    """1/2 v^T M v."""
+    return 0.5 * float(v @ band_mult(ops.m_diag, ops.m_off, v))
+
+
+def strain_energy(ops, u):
+    """1/2 u^T K u."""
+    return 0.5 * float(u @ band_mult(ops.k_diag, ops.k_off, u))
+
+
+def element_stress(mesh, u):
+    """E du/dx per element."""
+    n = mesh.elem_node
+    return mesh.E * (u[n + 1] - u[n]) / mesh.h
+
+
+def initial_state(model):
+    """Nodal u0 and v0 from the bodies' profiles."""
+    mesh = model.mesh
+    u, v = np.zeros(mesh.nnodes), np.zeros(mesh.nnodes)
+    for b, body in enumerate(model.case.bodies):
+        sl = mesh.nodes(b)
+        u[sl], v[sl] = body.u0(mesh.x[sl]), body.v0(mesh.x[sl])
+    return u, v
+
+
+def dense(ops):
+    """Dense M and K (for checks on small meshes)."""
+    M = np.diag(ops.m_diag) + np.diag(ops.m_off, 1) + np.diag(ops.m_off, -1)
+    K = np.diag(ops.k_diag) + np.diag(ops.k_off, 1) + np.diag(ops.k_off, -1)
+    return M, K
+
+
+def modes(ops, fixed_nodes=()):
+    """Eigenpairs of K phi = w^2 M phi with the given nodes fixed (dense; for
+    checks on small meshes).  Returns (w2, Phi, free) with Phi M-orthonormal
+    over the free nodes."""
+    import scipy.linalg
+
+    M, K = dense(ops)
+    free = np.setdiff1d(np.arange(M.shape[0]), np.asarray(fixed_nodes, dtype=int))
+    w2, phi = scipy.linalg.eigh(K[np.ix_(free, free)], M[np.ix_(free, free)])
+    return np.maximum(w2, 0.0), phi, free

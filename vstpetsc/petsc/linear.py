@@ -1,0 +1,85 @@
+"""The linear slab solve: a KSP (prefix ``vst_``) on the slab matrix A,
+factored once per run."""
+
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc.errors import SolveFailed
+from vstpetsc.petsc.options import PREFIX, default
+
+
+def reason_name(cls, code):
+    """The name of a PETSc converged/diverged reason code."""
+    for name in dir(cls):
+        if not name.startswith("_") and getattr(cls, name) == code:
+            return name
+    return str(code)
+
+
+class LinearSolver:
+    """Solves A x = b with the factors of A (or any KSP the options choose).
+
+    Defaults, which the options database overrides: ``preonly`` with PETSc's
+    LU in natural ordering on one rank (the block band is already optimal);
+    on several ranks ``redundant``, PETSc's LU of the whole matrix on every
+    rank (measured in bench/parallel.md).
+    """
+
+    def __init__(self, A, comm):
+        ksp = PETSc.KSP().create(comm=comm)
+        ksp.setOptionsPrefix(PREFIX)
+        ksp.setOperators(A, A)
+        ksp.setType("preonly")
+        ksp.setTolerances(rtol=1e-12, atol=1e-50, max_it=1000)
+        pc = ksp.getPC()
+        if comm.getSize() > 1:
+            pc.setType("redundant")
+            for key, val in (("redundant_pc_type", "lu"),
+                             ("redundant_pc_factor_mat_solver_type", "petsc"),
+                             ("redundant_pc_factor_mat_ordering_type", "natural")):
+                default(PREFIX + key, val)
+        else:
+            pc.setType("lu")
+            pc.setFactorSolverType("petsc")
+            pc.setFactorOrdering("natural")
+        ksp.setFromOptions()       # the options database wins over the defaults above
+        ksp.setUp()                # factors A, once per run
+        self.ksp, self.pc = ksp, pc
+        self.direct = ksp.getType() == "preonly"
+        self.serial_direct = self.direct and comm.getSize() == 1
+        self.count = 0             # linear solves (applications of the factors)
+        ksp.viewFromOptions("-ksp_view")
+
+    def solve(self, b, x, slab_index=None):
+        if self.direct:
+            # KSPSolve of KSPPREONLY would first zero x (measured: 7 % of
+            # a solve at 1e6 elements) and then apply the PC: do the latter.
+            self.pc.apply(b, x)
+            self.count += 1
+            return
+        self.ksp.solve(b, x)
+        reason = self.ksp.getConvergedReason()
+        if reason < 0:
+            where = f"slab {slab_index}: " if slab_index is not None else ""
+            raise SolveFailed(f"{where}linear solve did not converge "
+                              f"({reason_name(PETSc.KSP.ConvergedReason, reason)})")
+        self.count += max(1, self.ksp.getIterationNumber())
+
+    def finite(self, x):
+        """Whether x is finite.  On one rank its first entry says it: an LU
+        solve carries a NaN or Inf anywhere in b or the factors into every
+        entry of the backward sweep (0 * NaN is NaN), so no pass over x."""
+        if not self.serial_direct:
+            return np.isfinite(x.norm())
+        arr = x.getArray(readonly=True)
+        return arr.size == 0 or np.isfinite(arr[0])
+
+    def describe(self):
+        """One line naming the linear solver actually in use."""
+        what = self.pc.getType()
+        if what in ("lu", "cholesky", "ilu", "icc"):
+            what = f"{what} ({self.pc.getFactorSolverType()})"
+        elif what == "redundant":
+            inner = PETSc.Options().getString(PREFIX + "redundant_pc_type", "lu")
+            what = f"redundant ({inner} of the whole matrix on every rank)"
+        return f"KSP {self.ksp.getType()}, PC {what}"

@@ -1,0 +1,169 @@
+"""The slab solver of one run (constant dt) on PETSc.
+
+Unknowns and rows are mixed per node (slab.recurrence: unknowns
+z = dt/2 (v^2 - v^1, v^1 + v^2), rows by W) so that the right-hand side is a
+running sum: a slab without an active law costs one solve with A's factors,
+one product with a sparse matrix of three entries a row (b += G z) and one
+vector sum (u += z_2); the state (u, v) is formed only for output.  A below
+is that transformed slab matrix, X the unknowns z.
+
+Per slab: one solve gives the law-free solution; if no nonlinear law is
+active anywhere in the slab for it, it is the answer (the laws' terms
+vanish); otherwise Newton (:mod:`vstpetsc.petsc.newton`) starts from it.
+"""
+
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc import slab
+from vstpetsc.errors import SolveFailed
+from vstpetsc.lawset import LawSet
+from vstpetsc.petsc.linear import LinearSolver, reason_name
+from vstpetsc.petsc.matrices import block_matrix, increment_matrix
+from vstpetsc.petsc.newton import Condensed, Coupling, Full
+from vstpetsc.petsc.space import Space
+
+
+class SlabSolver:
+    """Assembles and solves the slab equations of ``model`` (laws included).
+
+    Parameters
+    ----------
+    model : vstpetsc.model.Model
+    dt : float
+    comm : PETSc communicator
+    options : vstpetsc.petsc.options.SolverOptions
+    """
+
+    def __init__(self, model, dt, comm, options):
+        self.dt = dt
+        ops, nnodes = model.ops, model.mesh.nnodes
+        self.space = Space(nnodes, comm, options.ownership)
+        n0, n1 = self.space.nodes
+        self.W, self.V, _, _ = slab.recurrence(dt)
+        self.Vinv = np.linalg.inv(self.V)
+        self.WT = self.W @ slab.CARRY                     # W T
+        self.carry = self.W @ (slab.CARRY - np.eye(2)) @ np.linalg.inv(self.W)
+        fixed = [2 * c.node + a for law in model.laws for c in law.constraints()
+                 for a in (0, 1)]
+        self.A = block_matrix(slab.impose_dirichlet(slab.slab_matrix(ops, dt, self.W, self.V),
+                                                    fixed, 1.0),
+                              (n0, n1), comm, options.mat_type)
+        self.R = block_matrix(slab.rhs_operator(ops, dt, self.W), (n0, n1), comm,
+                              options.mat_type)
+        self.G = increment_matrix(ops, dt, (n0, n1), comm)
+        self.Y = self.space.vector()    # (u, v) per node, for input and output
+        self.X = self.space.vector()    # slab unknowns z per node
+        self.b = self.X.duplicate()     # W r: the running right-hand side
+        self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
+        self._loads = None              # (local dofs, -W T f) of the open slab
+        self.linear = LinearSolver(self.A, comm)
+        self.laws = LawSet(model.nonlinear)
+        self.newton = None
+        if self.laws.size:
+            self.coupling = Coupling(self.laws, self.X, (n0, n1), self.W, self.V,
+                                     self.linear)
+            self.newton = Condensed(self.coupling, options.fd_jacobian, comm.getRank()) \
+                if options.newton == "condensed" else \
+                Full(self.coupling, options.fd_jacobian, self.A, self.linear, self.space)
+        self.law_rhs = np.zeros(self.laws.size)   # W r_laws of the last slab
+
+    def describe(self):
+        newton = f"; Newton: SNES {self.newton.snes.getType()}" if self.newton else ""
+        return self.linear.describe() + newton
+
+    def rhs(self, forces, velocities):
+        """Add the nodal force integrals of the slab to the running b and set
+        the prescribed velocities: (nodes, values (n, 2)) pairs in the
+        velocity basis, global node numbers; nodes not owned are skipped."""
+        n0, n1 = self.space.nodes
+        arr = self.b.getArray()
+        self._loads = None
+        nodes, per = forces
+        if nodes.size:
+            own = (nodes >= n0) & (nodes < n1)
+            idx = (2 * (nodes[own] - n0)[:, None] + np.arange(2)).ravel()
+            arr[idx] += (per[own] @ self.W.T).ravel()
+            self._loads = (idx, -(per[own] @ self.WT.T).ravel())   # for advance()
+        nodes, vals = velocities
+        if nodes.size:
+            own = (nodes >= n0) & (nodes < n1)
+            idx = (2 * (nodes[own] - n0)[:, None] + np.arange(2)).ravel()
+            arr[idx] = (vals @ self.Vinv.T)[own].ravel()
+
+    def solve(self, slab_index):
+        """Solve the slab for the current b; returns (Newton its, linear its)."""
+        count = self.linear.count
+        self.linear.solve(self.b, self.X, slab_index)
+        newton = 0
+        if self.newton is not None:
+            newton = self._solve_laws(slab_index)
+        if not self.linear.finite(self.X):
+            raise SolveFailed(f"slab {slab_index}: the solution is not finite")
+        return newton, self.linear.count - count
+
+    def _solve_laws(self, slab_index):
+        """Newton if a law is active for the law-free solution X; the laws'
+        residual at the solution goes into the running sum."""
+        self.laws.start_slab(self.dt)
+        _, active = self.laws.residual(self.coupling.velocities(self.X))
+        self.law_rhs[:] = 0.0
+        if not active:
+            return 0
+        self.newton.solve(self.X, self.b)
+        snes = self.newton.snes
+        reason = snes.getConvergedReason()
+        if reason <= 0:
+            raise SolveFailed(f"slab {slab_index}: SNES did not converge "
+                              f"({reason_name(PETSc.SNES.ConvergedReason, reason)}"
+                              f" after {snes.getIterationNumber()} Newton iterations)")
+        c, _ = self.laws.residual(self.coupling.velocities(self.X))
+        self.law_rhs[:] = self.coupling.WE @ c
+        return snes.getIterationNumber()
+
+    def advance(self):
+        """Close the slab: b += G z (the running sum) minus the force terms,
+        u += z_2 (slab.recurrence)."""
+        # u first: the end of the backward sweep left z in cache
+        np.add(self.u, self.X.getArray(readonly=True)[1::2], out=self.u)
+        self.G.multAdd(self.X, self.b, self.b)
+        if self._loads is not None:
+            idx, corr = self._loads
+            self.b.getArray()[idx] += corr
+            self._loads = None
+        if self.newton is not None:
+            self.laws.u += self.coupling.gather(self.X)[1::2]
+            if self.law_rhs.any():
+                corr = (self.law_rhs.reshape(-1, 2) @ self.carry.T).ravel()
+                self.coupling.gather.add_rows(self.b, corr)
+
+    def set_state(self, u, v):
+        """Start from displacements u and velocities v (global node arrays):
+        b = W R (u, v)."""
+        n0, n1 = self.space.nodes
+        y = self.Y.getArray().reshape(-1, 2)
+        y[:, 0], y[:, 1] = u[n0:n1], v[n0:n1]
+        self.R.mult(self.Y, self.b)
+        self.u[:] = u[n0:n1]
+        self._loads = None
+        self.laws.u[:] = u[self.laws.nodes]
+
+    def set_rhs_state(self, b):
+        """Continue from a running right-hand side saved by rhs_state()
+        (global array), after set_state: the restart is then bit for bit."""
+        n0, n1 = self.space.nodes
+        self.b.getArray()[:] = b[2 * n0:2 * n1]
+
+    def gather_state(self):
+        """(u, v) of all nodes on rank 0 (None elsewhere); v = v^2 of the
+        last slab."""
+        y = self.Y.getArray().reshape(-1, 2)
+        y[:, 0] = self.u
+        y[:, 1] = self.X.getArray(readonly=True).reshape(-1, 2) @ self.V[1]
+        y = self.space.to_rank0(self.Y)
+        return None if y is None else (y[0::2].copy(), y[1::2].copy())
+
+    def rhs_state(self):
+        """The running right-hand side of all dofs on rank 0 (None
+        elsewhere), between slabs."""
+        return self.space.to_rank0(self.b)

@@ -1,0 +1,72 @@
+"""The parallel layout: a 1-D DMDA over all nodes of all bodies, two dof
+per node (the slab unknowns of the node, interleaved), and the transfers
+between ranks that a run needs."""
+
+import numpy as np
+from petsc4py import PETSc
+
+
+class Space:
+    """Nodes ``nodes = (n0, n1)`` of this rank among ``nnodes``."""
+
+    def __init__(self, nnodes, comm, ownership=None):
+        self.da = PETSc.DMDA().create(
+            dim=1, sizes=(nnodes,), dof=2, stencil_width=1, comm=comm,
+            ownership_ranges=None if ownership is None else (tuple(ownership),))
+        self.da.setUp()
+        (n0, n1), = self.da.getRanges()
+        self.nodes = (n0, n1)
+        self.comm = comm
+        self._to_zero = None
+
+    def vector(self):
+        return self.da.createGlobalVec()
+
+    def to_rank0(self, vec):
+        """All entries of ``vec`` in node order on rank 0 (None elsewhere)."""
+        if self._to_zero is None:
+            self._nat = self.da.createNaturalVec()
+            self._to_zero, self._zero = PETSc.Scatter.toZero(self._nat)
+        self.da.globalToNatural(vec, self._nat)
+        self._to_zero.scatter(self._nat, self._zero, addv=PETSc.InsertMode.INSERT,
+                              mode=PETSc.ScatterMode.FORWARD)
+        if self.comm.getRank() != 0:
+            return None
+        return self._zero.getArray(readonly=True).copy()
+
+    def max_over_ranks(self, value):
+        if self.comm.getSize() == 1:
+            return value
+        from mpi4py import MPI
+        return self.comm.tompi4py().allreduce(value, op=MPI.MAX)
+
+
+class DofGather:
+    """The values of a global vector at the global dofs ``dofs``, on every
+    rank (every rank then takes the same decisions from them)."""
+
+    def __init__(self, template, dofs, nodes):
+        n0, n1 = nodes
+        self.dofs = np.asarray(dofs, dtype=PETSc.IntType)
+        self.owned = (self.dofs >= 2 * n0) & (self.dofs < 2 * n1)
+        self.local = self.dofs[self.owned] - 2 * n0
+        self.out = PETSc.Vec().createSeq(self.dofs.size, comm=PETSc.COMM_SELF)
+        iset = PETSc.IS().createGeneral(self.dofs, comm=PETSc.COMM_SELF)
+        self.scatter = PETSc.Scatter().create(template, iset, self.out, None)
+
+    def __call__(self, vec):
+        self.scatter.scatter(vec, self.out, addv=PETSc.InsertMode.INSERT,
+                             mode=PETSc.ScatterMode.FORWARD)
+        return self.out.getArray(readonly=True).copy()
+
+    def add_rows(self, vec, values):
+        """Add ``values`` (one per dof) to the owned entries of ``vec``."""
+        vec.getArray()[self.local] += values[self.owned]
+
+    def unit(self, vec, j):
+        """vec = the unit vector of dof number j."""
+        vec.zeroEntries()
+        if self.owned[j]:
+            vec.setValue(self.dofs[j], 1.0)
+        vec.assemble()
+        return vec

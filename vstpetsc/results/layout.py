@@ -1,0 +1,90 @@
+"""The layout of a result file (docs/result-file.md): every dataset name and
+what goes into it.  The writer, the reader, the summary and the plot take
+their names from here.
+
+    /time                          (nt,)
+    /body/<name>/x, u, v, stress   (nn,), (nt, nn), (nt, nn), (nt, ne)
+    /<law group>/<series>          (nt,)   e.g. /contact/0/gap
+    /energy/kinetic, strain        (nt,)
+    /solver/newton_iterations, linear_iterations, wall_time, slab   (nt,)
+"""
+
+import numpy as np
+
+from vstpetsc import model as model_mod
+
+TIME = "time"
+BODY = "body"
+CONTACT = "contact"
+ENERGY = ("energy/kinetic", "energy/strain")
+SOLVER = ("solver/newton_iterations", "solver/linear_iterations", "solver/wall_time",
+          "solver/slab")
+INTEGER_SERIES = ("solver/newton_iterations", "solver/linear_iterations", "solver/slab")
+BODY_SERIES = ("u", "v", "stress")
+RHS_STATE = "solver/rhs_state"
+REQUIRED = ("time", "body", "contact", "energy", "solver")
+
+
+def body_path(name, key=None):
+    return f"{BODY}/{name}" if key is None else f"{BODY}/{name}/{key}"
+
+
+def series(model):
+    """[(dataset name, shape of one row)] of every series, in the order the
+    file creates them."""
+    mesh, out = model.mesh, [(TIME, ())]
+    for b, body in enumerate(model.case.bodies):
+        nn = mesh.nodes(b).stop - mesh.nodes(b).start
+        out += [(body_path(body.name, "u"), (nn,)), (body_path(body.name, "v"), (nn,)),
+                (body_path(body.name, "stress"), (body.elements,))]
+    for law in model.recorded:
+        out += [(f"{law.group}/{key}", ()) for key in law.series]
+    return out + [(name, ()) for name in ENERGY + SOLVER]
+
+
+def statics(model):
+    """{dataset name: array} written once: the reference node coordinates."""
+    mesh = model.mesh
+    return {body_path(b.name, "x"): mesh.x[mesh.nodes(i)]
+            for i, b in enumerate(model.case.bodies)}
+
+
+def group_attrs(model):
+    """{group: attributes} of the laws that report."""
+    return {law.group: law.attrs() for law in model.recorded}
+
+
+def formulation(model):
+    """The root attribute ``formulation``: the pairs' formulations."""
+    forms = sorted({law.formulation for law in model.recorded if law.formulation})
+    return ",".join(forms) if forms else "none"
+
+
+def row(model, k, dt, u, v, its, wall):
+    """{dataset name: value} of the kept slab ``k`` from the nodal u and v."""
+    mesh, ops = model.mesh, model.ops
+    out = {TIME: k * dt, "solver/slab": k, "energy/kinetic": model_mod.kinetic_energy(ops, v),
+           "energy/strain": model_mod.strain_energy(ops, u),
+           "solver/newton_iterations": its[0], "solver/linear_iterations": its[1],
+           "solver/wall_time": wall}
+    stress = model_mod.element_stress(mesh, u)
+    for b, body in enumerate(model.case.bodies):
+        nodes = mesh.nodes(b)
+        out[body_path(body.name, "u")] = u[nodes]
+        out[body_path(body.name, "v")] = v[nodes]
+        out[body_path(body.name, "stress")] = stress[mesh.elements(b)]
+    for law in model.recorded:
+        for key, val in law.values(u).items():
+            out[f"{law.group}/{key}"] = val
+    return out
+
+
+def last_state(f, model):
+    """(slab, u, v, {group: {series: last value}}) of an open result file's
+    last row, for a restart."""
+    k = int(f["solver/slab"][-1])
+    u = np.concatenate([f[body_path(b.name, "u")][-1] for b in model.case.bodies])
+    v = np.concatenate([f[body_path(b.name, "v")][-1] for b in model.case.bodies])
+    laws = {law.group: {key: f[f"{law.group}/{key}"][-1] for key in law.series}
+            for law in model.recorded}
+    return k, u, v, laws

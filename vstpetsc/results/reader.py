@@ -1,0 +1,151 @@
+"""Reading a result file: :class:`Result`, lazy (each value is read from
+the file when it is asked for, so a big file costs nothing to open)."""
+
+import os
+
+import h5py
+
+from vstpetsc.errors import InputError
+from vstpetsc.results import layout
+
+
+def text(value):
+    """An HDF5 attribute as a str (h5py may hand back bytes)."""
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+class Result:
+    """A result file of `vstpetsc run`.
+
+    Examples
+    --------
+    >>> r = Result("bar-wall.h5")                         # doctest: +SKIP
+    >>> r.time, r.body("bar").u, r.contact(0).force       # doctest: +SKIP
+    >>> r.energy["kinetic"], r.status, r.summary()        # doctest: +SKIP
+
+    Parameters
+    ----------
+    path : str
+        A file written by :func:`vstpetsc.run`; :class:`vstpetsc.InputError`
+        if it is missing or not a vstpetsc result.
+    """
+
+    def __init__(self, path):
+        self.path = str(path)
+        if not os.path.isfile(self.path):
+            raise InputError(f"{self.path}: no such file")
+        try:
+            with self._open() as f:
+                missing = [k for k in layout.REQUIRED if k not in f]
+                self.bodies = [name for _, name in
+                               sorted((f[layout.body_path(n, "x")][0], n) for n in f["body"])]
+                self.ncontacts = len(f[layout.CONTACT]) if layout.CONTACT in f else 0
+        except (OSError, KeyError, IndexError, ValueError):
+            raise InputError(f"{self.path}: not an HDF5 file, or a damaged one") from None
+        if missing:
+            raise InputError(f"{self.path}: not a vstpetsc result (no {', '.join(missing)})")
+
+    def _open(self):
+        # a run may be writing the file: read it without HDF5's file lock
+        return h5py.File(self.path, "r", locking=False)
+
+    def __getitem__(self, name):
+        """The whole dataset ``name`` (e.g. "contact/0/gap") as an array."""
+        return self.read(name)
+
+    def read(self, name, selection=()):
+        """Dataset ``name``, or the part of it that ``selection`` (an index
+        expression, e.g. ``np.s_[rows, :]``) picks, as an array."""
+        with self._open() as f:
+            if name not in f or not isinstance(f[name], h5py.Dataset):
+                raise KeyError(f"{self.path} has no dataset {name!r}")
+            return f[name][selection]
+
+    def __contains__(self, name):
+        with self._open() as f:
+            return name in f
+
+    def keys(self, group=""):
+        """Names of the datasets and groups under ``group``."""
+        with self._open() as f:
+            return list(f[group].keys()) if group else list(f.keys())
+
+    def group_attrs(self, group=""):
+        with self._open() as f:
+            return {k: text(v) if isinstance(v, (bytes, str)) else v
+                    for k, v in f[group or "/"].attrs.items()}
+
+    @property
+    def attrs(self):
+        """The root attributes (status, case, dt, ...)."""
+        return self.group_attrs()
+
+    @property
+    def status(self):
+        return self.attrs.get("status", "?")
+
+    @property
+    def time(self):
+        return self[layout.TIME]
+
+    def body(self, name):
+        """Datasets of body ``name``: ``.x``, ``.u``, ``.v``, ``.stress``."""
+        if name not in self.bodies:
+            raise KeyError(f"no body {name!r} (bodies: {', '.join(self.bodies)})")
+        return Group(self, layout.body_path(name))
+
+    def contact(self, k):
+        """Datasets of contact pair ``k``: ``.gap``, ``.force``, ``.impulse``,
+        running totals, and ``.attrs``."""
+        if not 0 <= int(k) < self.ncontacts:
+            raise KeyError(f"no contact {k} (there are {self.ncontacts})")
+        return Group(self, f"{layout.CONTACT}/{int(k)}")
+
+    @property
+    def energy(self):
+        """{name: array} of the energy datasets, read when asked for."""
+        return Group(self, "energy")
+
+    @property
+    def solver(self):
+        return Group(self, "solver")
+
+    def summary(self):
+        """The dict that `vstpetsc info` prints."""
+        from vstpetsc.results.summary import summarize
+        return summarize(self)
+
+
+class Group:
+    """A group of a result file; its datasets read on attribute or item
+    access (``g.u`` or ``g["u"]``), ``g.attrs`` its attributes."""
+
+    def __init__(self, result, path):
+        self._result, self._path = result, path
+
+    def __getattr__(self, key):
+        if key.startswith("_"):
+            raise AttributeError(key)
+        try:
+            return self._result[f"{self._path}/{key}"]
+        except KeyError:
+            raise AttributeError(f"{self._path} has no dataset {key!r}") from None
+
+    def __getitem__(self, key):
+        return self._result[f"{self._path}/{key}"]
+
+    def keys(self):
+        return self._result.keys(self._path)
+
+    def __iter__(self):
+        return iter(self.keys())
+
+    def items(self):
+        return [(k, self[k]) for k in self.keys()]
+
+    @property
+    def attrs(self):
+        return self._result.group_attrs(self._path)
+
+    def __repr__(self):
+        return f"<{self._path} of {self._result.path}: {', '.join(self.keys())}>"

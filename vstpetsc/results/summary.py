@@ -1,0 +1,92 @@
+"""Summaries of a result file, computed from its arrays (for `vstpetsc info`)."""
+
+import numpy as np
+
+from vstpetsc.results.reader import text
+
+
+def pair_summary(group, k):
+    """Contact history of pair k from its group of the result: the running
+    totals over every slab (their last kept value) and the kept gaps.
+
+    Keys: name, formulation, penalty, first_contact (start of the first slab
+    with contact, nan: none), duration (total length of the slabs with
+    contact), episodes (runs of consecutive slabs with contact), peak_force
+    (largest slab-mean force), mean_force (total impulse / total contact
+    time), impulse (total), penetration (largest overlap at kept slab ends).
+    """
+    last = lambda key: float(group[key][-1])
+    a = group.attrs
+    duration = last("contact_time")
+    return {"name": text(a.get("pair", str(k))).replace(",", " | "),
+            "formulation": text(a.get("formulation", "")),
+            "penalty": float(a.get("penalty", np.nan)), "first_contact": last("first_contact"),
+            "duration": duration, "episodes": int(last("episodes")),
+            "peak_force": last("force_peak"),
+            "mean_force": last("impulse_total") / duration if duration > 0 else 0.0,
+            "impulse": last("impulse_total"),
+            "penetration": float(max(0.0, -group["gap"].min()))}
+
+
+def summarize(result):
+    """A dict of everything `vstpetsc info` prints, from a Result."""
+    a = result.attrs
+    time = result.time
+    dt = float(a.get("dt", time[1] - time[0] if time.size > 1 else np.nan))
+    every = int(a.get("every", 1))
+    bodies = []
+    for name in result.bodies:
+        x = result.body(name).x
+        bodies.append((name, x.size - 1, float(x[0]), float(x[-1])))
+    pairs = [pair_summary(result.contact(k), k) for k in range(result.ncontacts)]
+    energy = result.energy["kinetic"] + result.energy["strain"]
+    newton = result.solver["newton_iterations"][1:]
+    linear = result.solver["linear_iterations"][1:]
+    return {
+        "status": text(a.get("status", "?")), "version": text(a.get("version", "?")),
+        "message": text(a.get("message", "")), "formulation": text(a.get("formulation", "")),
+        "solver": text(a.get("solver", "")), "mpi_size": int(a.get("mpi_size", 1)),
+        "dt": dt, "every": every, "slabs": int(a.get("slabs", 0)),
+        "slabs_done": int(a.get("slabs_done", round(time[-1] / dt) if time.size else 0)),
+        "kept": time.size, "t_end": float(time[-1]) if time.size else 0.0,
+        "bodies": bodies, "pairs": pairs,
+        "energy_start": float(energy[0]) if energy.size else np.nan,
+        "energy_end": float(energy[-1]) if energy.size else np.nan,
+        "newton_mean": float(newton.mean()) if newton.size else 0.0,
+        "newton_max": int(newton.max()) if newton.size else 0,
+        "linear_mean": float(linear.mean()) if linear.size else 0.0,
+        "wall_time": float(a.get("wall_time", np.nan)),
+    }
+
+
+def format_summary(s, path):
+    """The one-screen text of `vstpetsc info`."""
+    lines = [f"{path}: {s['status']}" + (f" ({s['message']})" if s["message"] else ""),
+             f"  vstpetsc {s['version']}, {s['mpi_size']} rank(s), solver: {s['solver']}",
+             f"  dt = {s['dt']:g}, {s['slabs_done']} of {s['slabs']} slabs to t = "
+             f"{s['t_end']:g}, {s['kept']} kept times (every {s['every']})",
+             "  bodies:"]
+    for name, ne, x0, x1 in s["bodies"]:
+        lines.append(f"    {name:<14} x = [{x0:g}, {x1:g}], {ne} elements")
+    if s["pairs"]:
+        lines.append(f"  contact ({s['formulation']}):")
+    for k, p in enumerate(s["pairs"]):
+        if np.isnan(p["first_contact"]):
+            lines.append(f"    [{k}] {p['name']}: no contact (penalty {p['penalty']:.4g}, "
+                         f"{p['formulation']})")
+            continue
+        lines += [f"    [{k}] {p['name']} ({p['formulation']}, penalty {p['penalty']:.4g})",
+                  f"        first contact t = {p['first_contact']:.6g}, total duration "
+                  f"{p['duration']:.6g}, {p['episodes']} episode(s)",
+                  f"        force peak {p['peak_force']:.6g}, mean {p['mean_force']:.6g}; "
+                  f"impulse {p['impulse']:.6g}; largest penetration {p['penetration']:.4g}"]
+    e0, e1 = s["energy_start"], s["energy_end"]
+    rel = (e1 - e0) / e0 * 100 if e0 else float("nan")
+    lines.append(f"  energy: start {e0:.6g}, end {e1:.6g} ({rel:+.3f} %)")
+    lines.append(f"  Newton iterations per slab: mean {s['newton_mean']:.3g}, max "
+                 f"{s['newton_max']}; linear solves per slab: mean {s['linear_mean']:.3g}")
+    if not np.isnan(s["wall_time"]):
+        lines.append(f"  wall time {s['wall_time']:.3f} s")
+    if s["every"] > 1:
+        lines.append(f"  (contact totals over every slab; penetration at kept times only)")
+    return "\n".join(lines)

@@ -1,0 +1,304 @@
+"""The tables of a case file and their validation (docs/case-file.md).
+
+``read(doc)`` turns a TOML document (nested dicts and lists) into the typed
+parts of a :class:`vstpetsc.case.Case`, or raises :class:`CaseError` with
+every problem of the document.  Laws validate their own keys through the
+registries of :mod:`vstpetsc.laws`.  Nothing here imports PETSc.
+"""
+
+from dataclasses import dataclass, field
+
+from vstpetsc import laws
+from vstpetsc.checker import MISSING, Checker, is_number, show
+from vstpetsc.errors import CaseError
+from vstpetsc.history import History
+
+WALL = "wall"
+ENDS = ("left", "right")
+UNITS = {"length": "m", "time": "s", "mass": "kg"}
+TOP = ("time", "output", "body", "contact", "bc", "units")
+BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0")
+MAX_SLABS = 1e12          # beyond any run; guards int() and memory against typos
+MAX_ELEMENTS = 10**8      # per body
+
+
+@dataclass
+class Body:
+    name: str
+    x: tuple
+    elements: int
+    E: float
+    rho: float
+    area: float = 1.0
+    v0: History = field(default_factory=History)
+    u0: History = field(default_factory=History)
+
+
+@dataclass
+class ContactSpec:
+    """A [[contact]]: ``left`` body's right end against ``right`` body's
+    left end; one of them None for a rigid wall at ``wall``."""
+
+    left: int | None
+    right: int | None
+    formulation: str
+    params: dict
+    wall: float | None = None
+
+
+@dataclass
+class BoundarySpec:
+    """A [[bc]] at an ``end`` of body number ``body``."""
+
+    body: int
+    end: str
+    type: str
+    params: dict
+
+
+def read(doc):
+    """The typed parts of a case document: a dict of Case fields."""
+    chk = Checker()
+    chk.unknown(doc, TOP, "")
+    parts = {}
+    parts.update(read_time(chk, chk.table(doc, "time", "time", required=True)))
+    parts.update(read_output(chk, chk.table(doc, "output", "output", required=False)))
+    parts["units"] = read_units(chk, chk.table(doc, "units", "units", required=False))
+    bodies, names = read_bodies(chk, doc)
+    contacts = read_contacts(chk, chk.tables(doc, "contact"), bodies, names)
+    bcs = read_bcs(chk, chk.tables(doc, "bc"), names, contacts)
+    if chk.problems:
+        raise CaseError(chk.problems)
+    parts.update(bodies=bodies, contacts=contacts, bcs=bcs)
+    return parts
+
+
+def read_time(chk, tm):
+    chk.unknown(tm, ("dt", "end"), "time")
+    dt = chk.number(tm, "dt", "time", positive=True)
+    end = chk.number(tm, "end", "time", positive=True)
+    nslabs = None
+    if dt is not None and end is not None:
+        if end <= dt:
+            chk.add("time.end", f"must be greater than time.dt ({dt:g}), got {end:g}")
+        elif end / dt > MAX_SLABS:
+            chk.add("time.end", f"end / dt = {end / dt:.3g} slabs is more than {MAX_SLABS:.0e}")
+        else:
+            nslabs = int(round(end / dt))
+    return {"dt": dt, "nslabs": nslabs}
+
+
+def read_output(chk, out):
+    chk.unknown(out, ("path", "every"), "output")
+    path = chk.string(out, "path", "output", required=False, default="result.h5")
+    if path == "":
+        chk.add("output.path", "must not be empty")
+    every = chk.integer(out, "every", "output", required=False, default=1)
+    return {"output_path": path, "every": every}
+
+
+def read_units(chk, un):
+    chk.unknown(un, tuple(UNITS), "units")
+    return {k: chk.string(un, k, "units", required=False, default=d) for k, d in UNITS.items()}
+
+
+def name_problem(name):
+    """Why ``name`` cannot name a body or a gauge (None if it can): it
+    becomes an HDF5 group name and a CSV file name."""
+    if name == "":
+        return "must not be empty"
+    if name in (".", ".."):
+        return f"{name!r} is not a name"
+    bad = [c for c in name if not (c.isalnum() or c in "_-.")]
+    if bad:
+        return (f"may hold letters, digits, '_', '-' and '.' only, got {bad[0]!r} "
+                f"in {name!r}")
+    return None
+
+
+def read_bodies(chk, doc):
+    tables = chk.tables(doc, "body")
+    if not tables and "body" not in doc:
+        chk.add("body", "at least one [[body]] table is required")
+    bodies, names = [], {}
+    for i, tbl in enumerate(tables):
+        name, body = _body(chk, tbl, i, names)
+        bodies.append(body)
+        if name is not None:
+            names[name] = i
+    good = [(i, b) for i, b in enumerate(bodies) if b is not None]
+    for (i, a), (j, b) in zip(good, good[1:]):
+        if b.x[0] < a.x[1]:
+            chk.add(f"body[{j}] ({b.name}).x",
+                    f"overlaps or precedes body[{i}] ({a.name}) ending at {a.x[1]:g}; "
+                    f"bodies must be listed left to right without overlap")
+    return bodies, names
+
+
+def _body(chk, tbl, i, names):
+    """(its usable name or None, the Body or None after reporting)."""
+    where = f"body[{i}]"
+    chk.unknown(tbl, BODY_KEYS, where)
+    name = chk.string(tbl, "name", where)
+    if name is not None:
+        where = f"body[{i}] ({name})"
+        problem = name_problem(name)
+        if problem is None and name == WALL:
+            problem = f"{WALL!r} is reserved for rigid walls"
+        if problem is None and name in names:
+            problem = f"duplicate name (also body[{names[name]}])"
+        if problem:
+            chk.add(f"{where}.name", problem)
+            name = None
+    x = _interval(chk, tbl, where)
+    ne = chk.integer(tbl, "elements", where)
+    if ne is not None and ne > MAX_ELEMENTS:
+        chk.add(f"{where}.elements", f"at most {MAX_ELEMENTS}, got {ne}")
+        ne = None
+    fields = (name, x, ne, chk.number(tbl, "E", where, positive=True),
+              chk.number(tbl, "rho", where, positive=True),
+              chk.number(tbl, "area", where, required=False, default=1.0, positive=True),
+              chk.history(tbl, "v0", where, "x"), chk.history(tbl, "u0", where, "x"))
+    return name, None if any(f is None for f in fields) else Body(*fields)
+
+
+def _interval(chk, tbl, where):
+    """The body's [left, right] end coordinates, or None."""
+    if "x" not in tbl:
+        chk.add(f"{where}.x", "missing required key")
+        return None
+    x = tbl["x"]
+    if not isinstance(x, list) or len(x) != 2 or not all(map(is_number, x)):
+        chk.add(f"{where}.x", f"must be [left, right] numbers, got {show(x)}")
+    elif not all(abs(c) < float("inf") for c in x):
+        chk.add(f"{where}.x", f"must be finite, got {x}")
+    elif x[1] <= x[0]:
+        chk.add(f"{where}.x", f"right end must exceed left end (length must be "
+                f"positive), got {x}")
+    else:
+        return (float(x[0]), float(x[1]))
+    return None
+
+
+def read_contacts(chk, tables, bodies, names):
+    contacts, ends_used = [], {}
+    for i, tbl in enumerate(tables):
+        where = f"contact[{i}]"
+        form = chk.string(tbl, "formulation", where, required=False, default="seed",
+                          choices=tuple(laws.CONTACT))
+        allowed = ("pair", "formulation", "wall") + (laws.CONTACT[form].KEYS if form else ())
+        chk.unknown(tbl, allowed, where)
+        params = laws.CONTACT[form].read(chk, tbl, where) if form else None
+        pair = _pair(chk, tbl, where, bodies, names)
+        if pair is None or params is None:
+            continue
+        left, right, wall = pair
+        ends = [(left, "right"), (right, "left")]
+        dup = [(e, ends_used[e]) for e in ends if e[0] is not None and e in ends_used]
+        if dup:
+            (body, side), other = dup[0]
+            chk.add(f"{where}.pair", f"the {side} end of {bodies[body].name!r} is "
+                    f"already in contact[{other}]")
+            continue
+        ends_used.update({e: i for e in ends if e[0] is not None})
+        contacts.append(ContactSpec(left, right, form, params, wall))
+    return contacts
+
+
+def _pair(chk, tbl, where, bodies, names):
+    """(left, right, wall) body numbers (None: the wall) of a pair, or None."""
+    pair = chk.take(tbl, "pair", where, required=True)
+    if pair is MISSING:
+        return None
+    if not isinstance(pair, list) or len(pair) != 2 or not all(isinstance(p, str) for p in pair):
+        chk.add(f"{where}.pair", f"must be two names [\"left\", \"right\"], got {show(pair)}")
+        return None
+    a, b = pair
+    missing = [p for p in pair if p != WALL and p not in names]
+    if missing:
+        chk.add(f"{where}.pair", f"unknown body {missing[0]!r} "
+                f"(bodies: {', '.join(names) or 'none'})")
+        return None
+    if a == WALL and b == WALL:
+        chk.add(f"{where}.pair", "needs at least one body")
+        return None
+    if any(p != WALL and bodies[names[p]] is None for p in pair):
+        return None                 # that body's own problem is reported already
+    left = None if a == WALL else names[a]
+    right = None if b == WALL else names[b]
+    if left is None or right is None:
+        wall = chk.number(tbl, "wall", where)
+        return None if wall is None else _wall_pair(chk, where, bodies, left, right, wall)
+    if "wall" in tbl:
+        chk.add(f"{where}.wall", "only for a pair with \"wall\"")
+    elif right != left + 1:
+        chk.add(f"{where}.pair", f"{a!r} and {b!r} are not neighbours listed left to "
+                "right (a pair joins the right end of one body to the left end of the next)")
+    else:
+        gap = bodies[right].x[0] - bodies[left].x[1]
+        return _checked_gap(chk, where, gap, (left, right, None))
+    return None
+
+
+def _wall_pair(chk, where, bodies, left, right, wall):
+    """Check a wall's position against its body and the next body."""
+    if right is None:                         # wall on the right of `left`
+        body, nxt = bodies[left], bodies[left + 1] if left + 1 < len(bodies) else None
+        if wall < body.x[1]:
+            chk.add(f"{where}.wall", f"a wall on the right of {body.name!r} must be at "
+                    f">= {body.x[1]:g} (its right end), got {wall:g}")
+        elif nxt is not None and wall > nxt.x[0]:
+            chk.add(f"{where}.wall", f"lies inside or beyond body {nxt.name!r} "
+                    f"(which starts at {nxt.x[0]:g})")
+        else:
+            return _checked_gap(chk, where, wall - body.x[1], (left, None, wall))
+        return None
+    body, prv = bodies[right], bodies[right - 1] if right > 0 else None
+    if wall > body.x[0]:
+        chk.add(f"{where}.wall", f"a wall on the left of {body.name!r} must be at "
+                f"<= {body.x[0]:g} (its left end), got {wall:g}")
+    elif prv is not None and wall < prv.x[1]:
+        chk.add(f"{where}.wall", f"lies inside or before body {prv.name!r} "
+                f"(which ends at {prv.x[1]:g})")
+    else:
+        return _checked_gap(chk, where, body.x[0] - wall, (None, right, wall))
+    return None
+
+
+def _checked_gap(chk, where, gap, pair):
+    if gap < 0:
+        chk.add(f"{where}.pair", f"initial gap is negative ({gap:g})")
+        return None
+    return pair
+
+
+def read_bcs(chk, tables, names, contacts):
+    contact_ends = {}
+    for k, c in enumerate(contacts):
+        contact_ends[(c.left, "right")] = k
+        contact_ends[(c.right, "left")] = k
+    bcs, seen = [], {}
+    for i, tbl in enumerate(tables):
+        where = f"bc[{i}]"
+        name = chk.string(tbl, "body", where)
+        end = chk.string(tbl, "end", where, choices=ENDS)
+        typ = chk.string(tbl, "type", where, choices=tuple(laws.BOUNDARY))
+        law = laws.BOUNDARY.get(typ)
+        chk.unknown(tbl, ("body", "end", "type") + (law.KEYS if law else ()), where)
+        params = law.read(chk, tbl, where) if law else None
+        if name is not None and name not in names:
+            chk.add(f"{where}.body", f"unknown body {name!r} "
+                    f"(bodies: {', '.join(names) or 'none'})")
+            continue
+        if None in (name, end, typ, params):
+            continue
+        key = (names[name], end)
+        if key in seen:
+            chk.add(f"{where}.end", f"the {end} end of {name!r} already has bc[{seen[key]}]")
+        elif key in contact_ends:
+            chk.add(f"{where}.end", f"the {end} end of {name!r} is in "
+                    f"contact[{contact_ends[key]}]; an end takes a bc or a contact, not both")
+        else:
+            seen[key] = i
+            bcs.append(BoundarySpec(names[name], end, typ, params))
+    return bcs
