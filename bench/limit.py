@@ -19,9 +19,10 @@ import h5py
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc import slab
-from vstpetsc.case import Body
-from vstpetsc.mesh import build_layout
+from vstpetsc import Case
+from vstpetsc.model import build_model
+from vstpetsc.petsc.options import SolverOptions
+from vstpetsc.petsc.slab_solver import SlabSolver
 
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 C = np.sqrt(2.0e11 / 7850.0)
@@ -42,30 +43,12 @@ def bar_case(elements, slabs, contact=False, cfl=0.5):
     return text
 
 
-def slab_ksp(elements):
-    """PETSc's LU (natural ordering, the default of `vstpetsc run`) of the
-    slab matrix A = HM (x) M + dt^2 HK (x) K of the benchmark bar (left end
-    clamped, BAIJ), as formulation.md writes it: built here from
-    vstpetsc.slab, not taken from the solver, which factors a matrix mixed
-    per node (same pattern, same cost)."""
-    lay = build_layout([Body("bar", (0.0, 1.0), elements, 2.0e11, 7850.0)])
-    blocks = slab.impose_dirichlet(slab.slab_matrix(lay, 0.5 / elements / C), [0, 1], 1.0)
-    indptr, indices, data = slab.block_rows_bcsr(blocks, 0, lay.nnodes)
-    n = 2 * lay.nnodes
-    A = PETSc.Mat().createBAIJ(size=(n, n), bsize=2, comm=PETSc.COMM_SELF,
-                               csr=(indptr.astype(PETSc.IntType),
-                                    indices.astype(PETSc.IntType),
-                                    np.ascontiguousarray(data).ravel()))
-    A.assemble()
-    ksp = PETSc.KSP().create(comm=PETSc.COMM_SELF)
-    ksp.setOperators(A, A)
-    ksp.setType("preonly")
-    pc = ksp.getPC()
-    pc.setType("lu")
-    pc.setFactorSolverType("petsc")
-    pc.setFactorOrdering("natural")
-    ksp.setUp()
-    return ksp
+def slab_solver(elements):
+    """vstpetsc's own slab solver of the benchmark bar (left end clamped, the
+    case `vstpetsc run` solves below): its matrix, factored by its linear
+    solver with the run's defaults (PETSc's LU, natural ordering, BAIJ)."""
+    case = Case.from_text(bar_case(elements, 10))
+    return SlabSolver(build_model(case), case.dt, PETSc.COMM_SELF, SolverOptions())
 
 
 def solve_time(elements, solves=20, reps=3):
@@ -73,11 +56,12 @@ def solve_time(elements, solves=20, reps=3):
     median) over ``reps`` repetitions of ``solves`` solves each: as one
     KSPSolve (the reference) and as one PCApply (KSPSolve without zeroing
     the solution first, what `vstpetsc run` calls)."""
-    ksp = slab_ksp(elements)
+    linear = slab_solver(elements).linear
+    ksp = linear.ksp
     b, x = ksp.getOperators()[0].createVecs()
     b.setRandom()
     out = []
-    for call in (ksp.solve, ksp.getPC().apply):
+    for call in (ksp.solve, linear.pc.apply):
         call(b, x)
         times = []
         for _ in range(reps):

@@ -19,9 +19,22 @@ import h5py
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc.case import Body, parse_case
-from vstpetsc.mesh import build_layout, modes
-from vstpetsc.run import run
+import vstpetsc
+from vstpetsc.model import build_model, dense, modes
+
+
+def bars(*bodies):
+    """(operators, mesh) of bodies given as (name, x0, x1, elements), E = rho = 1."""
+    doc = {"time": {"dt": 1.0, "end": 2.0},
+           "body": [{"name": n, "x": [x0, x1], "elements": ne, "E": 1.0, "rho": 1.0}
+                    for n, x0, x1, ne in bodies]}
+    model = build_model(vstpetsc.Case.from_dict(doc))
+    return model.ops, model.mesh
+
+
+def run(text, path):
+    """vstpetsc.run of a case given as TOML text, quietly."""
+    return vstpetsc.run(vstpetsc.Case.from_text(text), path, quiet=True, out=io.StringIO())
 
 
 def _aij(diag, off):
@@ -131,14 +144,14 @@ def smooth(elements=200, counts=(16, 32, 64, 128, 256, 512), radii=(1.0, 0.5),
     whole period, where cos is flat and phase errors would enter squared),
     max over u and v, and wall times, for v-ST/FEM and TSALPHA2 at several
     numbers of steps."""
-    lay = build_layout([Body("bar", (0.0, 1.0), elements, 1.0, 1.0)])
+    lay, mesh = bars(("bar", 0.0, 1.0, elements))
     w2, phi, free = modes(lay, [0])
     w = np.sqrt(w2)
-    u0 = np.zeros(lay.nnodes)
+    u0 = np.zeros(mesh.nnodes)
     u0[free] = phi[:, 0] / abs(phi[:, 0]).max() + 0.3 * phi[:, 1] / abs(phi[:, 1]).max()
     v0 = np.zeros_like(u0)
     T = 1.3 * 2 * np.pi / w[0]
-    M = (np.diag(lay.m_diag) + np.diag(lay.m_off, 1) + np.diag(lay.m_off, -1))[np.ix_(free, free)]
+    M = dense(lay)[0][np.ix_(free, free)]
     q0 = phi.T @ M @ u0[free]
     u_ex, v_ex = np.zeros_like(u0), np.zeros_like(u0)
     u_ex[free] = phi @ (np.cos(w * T) * q0)
@@ -147,7 +160,7 @@ def smooth(elements=200, counts=(16, 32, 64, 128, 256, 512), radii=(1.0, 0.5),
                                  np.abs(v - v_ex).max() / np.abs(v_ex).max()))
     out = {"elements": elements, "final_time": T, "vstfem": [],
            **{f"alpha2_r{r:g}": [] for r in radii}}
-    table = [[float(x), float(u)] for x, u in zip(lay.x, u0)]
+    table = [[float(x), float(u)] for x, u in zip(mesh.x, u0)]
     for n in alpha_counts or counts:
         for r in radii:
             model = AlphaBars(lay, fixed=[0])
@@ -162,7 +175,7 @@ def smooth(elements=200, counts=(16, 32, 64, 128, 256, 512), radii=(1.0, 0.5),
                     "[[bc]]\nbody = \"bar\"\nend = \"left\"\ntype = \"fixed\"\n")
             path = os.path.join(folder, "s.h5")
             t0 = time.perf_counter()
-            run(parse_case(text), path, quiet=True, out=io.StringIO())
+            run(text, path)
             wall = time.perf_counter() - t0
             with h5py.File(path) as f:
                 u, v = f["body/bar/u"][-1], f["body/bar/v"][-1]
@@ -201,19 +214,17 @@ def impact(elements=50, cfl=0.5, beta=50.0, radii=(1.0, 0.5)):
         # wall time with output every 1000 slabs (the peer keeps its arrays
         # in memory), metrics from a run that keeps every slab
         t0 = time.perf_counter()
-        run(parse_case(text.replace("[[body]]", "[output]\nevery = 1000\n[[body]]", 1)),
-            path, quiet=True, out=io.StringIO())
+        run(text.replace("[[body]]", "[output]\nevery = 1000\n[[body]]", 1), path)
         wall = time.perf_counter() - t0
-        run(parse_case(text), path, quiet=True, out=io.StringIO())
+        run(text, path)
         with h5py.File(path) as f:
             t, F = f["time"][:], f["contact/0/force"][:]
             e = f["energy/kinetic"][:] + f["energy/strain"][:]
         out["vstfem"] = {**_impact_metrics(t, F, e), "wall": wall}
-    lay = build_layout([Body("a", (0.0, 1.0), elements, 1.0, 1.0),
-                        Body("b", (1 + g0, 2 + g0), elements, 1.0, 1.0)])
+    lay, mesh = bars(("a", 0.0, 1.0, elements), ("b", 1 + g0, 2 + g0, elements))
     s, m = elements, elements + 1
-    u0 = np.zeros(lay.nnodes)
-    v0 = np.where(np.arange(lay.nnodes) <= s, 1.0, 0.0)
+    u0 = np.zeros(mesh.nnodes)
+    v0 = np.where(np.arange(mesh.nnodes) <= s, 1.0, 0.0)
     for r in radii:
         model = AlphaBars(lay, pair=(s, m, g0, k))
         forces = np.zeros(steps + 1)

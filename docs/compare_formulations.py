@@ -13,8 +13,7 @@ import tempfile
 import h5py
 import numpy as np
 
-from vstpetsc.case import parse_case
-from vstpetsc.run import run
+import vstpetsc
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 NE, DT, G0, V0 = 50, 0.01, 0.1, 1.0
@@ -34,7 +33,8 @@ def measure(name, formulation, folder, dt=DT):
     text = (f"[time]\ndt = {dt}\nend = 3.0\n" + body
             + f"formulation = \"{formulation}\"\n")
     path = os.path.join(folder, f"{name}-{formulation}-{dt}.h5")
-    result = run(parse_case(text), path, quiet=True, out=io.StringIO())
+    result = vstpetsc.run(vstpetsc.Case.from_text(text), path, quiet=True,
+                          out=io.StringIO()).run
     with h5py.File(path) as f:
         t, J = f["time"][:], f["contact/0/impulse"][:]
         on = np.nonzero(J > 0)[0]

@@ -10,10 +10,9 @@ import tempfile
 import h5py
 import numpy as np
 
+import vstpetsc
 from vstpetsc import bundled
-from vstpetsc.case import parse_case
-from vstpetsc.plot import plot_result
-from vstpetsc.run import run
+from vstpetsc.results.plot import plot_result
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 C = np.sqrt(2.0e11 / 7850.0)          # steel
@@ -83,7 +82,8 @@ def main():
         for name in bundled.names():
             text = bundled.text(name)
             out = os.path.join(folder, name + ".h5")
-            res = run(parse_case(text), out, quiet=True, out=io.StringIO())
+            res = vstpetsc.run(vstpetsc.Case.from_text(text), out, quiet=True,
+                               out=io.StringIO()).run
             plot_result(out, os.path.join(HERE, "figures", name + ".png"))
             with h5py.File(out) as f:
                 key = KEY[name](f)

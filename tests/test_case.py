@@ -4,7 +4,11 @@ exit status 2 with no traceback."""
 import pytest
 
 from conftest import cli
-from vstpetsc.case import CaseError, parse_case
+from vstpetsc import Case, CaseError
+
+
+def parse_case(text):
+    return Case.from_text(text)
 
 GOOD = """
 [time]

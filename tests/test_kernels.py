@@ -4,34 +4,30 @@ import numpy as np
 import pytest
 from scipy import integrate
 
+from conftest import bar, make_case
 from vstpetsc import slab
-from vstpetsc.case import Body
-from vstpetsc.contact import contact_integrals, gap_coefficients, gap_roots
 from vstpetsc.history import History
-from vstpetsc.mesh import band_mult, build_layout
-
-
-def dense(layout):
-    M = np.diag(layout.m_diag) + np.diag(layout.m_off, 1) + np.diag(layout.m_off, -1)
-    K = np.diag(layout.k_diag) + np.diag(layout.k_off, 1) + np.diag(layout.k_off, -1)
-    return M, K
+from vstpetsc.laws.gap import contact_integrals, gap_coefficients, gap_roots
+from vstpetsc.model import band_mult, build_model, dense
 
 
 def two_bodies():
-    return build_layout([Body("a", (0.0, 1.0), 4, 2.0, 3.0, 0.5),
-                         Body("b", (1.5, 2.0), 3, 7.0, 1.0, 2.0)])
+    """The operators of two bodies (mesh-free kernels take them)."""
+    case = make_case(0.1, 1.0, [bar("a", (0.0, 1.0), 4, E=2.0, rho=3.0, area=0.5),
+                                bar("b", (1.5, 2.0), 3, E=7.0, rho=1.0, area=2.0)])
+    return build_model(case).ops
 
 
 def test_mass_and_stiffness_bands():
     lay = two_bodies()
     M, K = dense(lay)
     # mass of each body is rho A L, rigid motions carry no strain energy
-    ones = np.ones(lay.nnodes)
+    ones = np.ones(M.shape[0])
     assert np.isclose(ones[:5] @ M[:5, :5] @ ones[:5], 3.0 * 0.5 * 1.0)
     assert np.isclose(ones[5:] @ M[5:, 5:] @ ones[5:], 1.0 * 2.0 * 0.5)
     assert np.allclose(K @ ones, 0.0)
     assert M[4, 5] == 0.0 and K[4, 5] == 0.0   # no element joins two bodies
-    u = np.random.default_rng(0).normal(size=lay.nnodes)
+    u = np.random.default_rng(0).normal(size=M.shape[0])
     assert np.allclose(band_mult(lay.m_diag, lay.m_off, u), M @ u)
 
 
@@ -39,7 +35,7 @@ def test_slab_matrix_is_kronecker_form_and_csr_matches():
     lay = two_bodies()
     M, K = dense(lay)
     dt = 0.3
-    n = lay.nnodes
+    n = M.shape[0]
     # interleaved per node: dof 2i + a
     A = np.kron(M, slab.HM) + dt ** 2 * np.kron(K, slab.HK)
     blocks = slab.slab_matrix(lay, dt)
@@ -165,13 +161,13 @@ def test_running_sum_right_hand_side_equals_the_state_form(dt):
     x = V z per node, equals r^{n+1} = R (mask Y^n + Q x^n); z_2 is the
     displacement increment; the solver's matrix is (W x I) A (V x I)."""
     lay = two_bodies()
-    n = lay.nnodes
+    n = lay.m_diag.size
     rng = np.random.default_rng(5)
     W, V, gm, gk = slab.recurrence(dt)
     I = np.eye(n)
     A = block_dense(slab.slab_matrix(lay, dt))
     R = block_dense(slab.rhs_operator(lay, dt))
-    Q = np.kron(I, slab.advance_blocks(1, dt)[0])
+    Q = np.kron(I, slab.advance_block(dt))
     mask = np.tile([1.0, 0.0], n)
     WI, VI = np.kron(I, W), np.kron(I, V)
     assert np.allclose(block_dense(slab.slab_matrix(lay, dt, W, V)), WI @ A @ VI)

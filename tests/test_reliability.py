@@ -13,17 +13,18 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import VSTPETSC, Result, body, cli, table, time_table
+from conftest import VSTPETSC, bar, cli, make_case
 from test_case import GOOD
+from vstpetsc import Result
 from vstpetsc import cli as vcli
 
 
 def long_case(every=3):
-    """Two bars with contact, a few seconds of slabs."""
-    return (time_table(0.002, 6.0, every) + body("a", (0.0, 1.0), 300, E=1.0, rho=1.0, v0=1.0)
-            + body("b", (1.05, 2.05), 300, E=2.0, rho=1.0)
-            + table("contact", pair=["a", "b"], formulation="power")
-            + table("bc", body="b", end="right", type="fixed"))
+    """Two bars with contact, a few seconds of slabs (TOML text)."""
+    return make_case(0.002, 6.0, [bar("a", (0.0, 1.0), 300, E=1.0, rho=1.0, v0=1.0),
+                                  bar("b", (1.05, 2.05), 300, E=2.0, rho=1.0)],
+                     contacts=[dict(pair=["a", "b"], formulation="power")],
+                     bcs=[dict(body="b", end="right", type="fixed")], every=every).to_toml()
 
 
 def start_and_wait(case, out, min_rows_bytes=200_000, timeout=60):
@@ -60,21 +61,21 @@ def test_interrupt_then_restart_equals_uninterrupted(tmp_path, sig, code):
     assert proc.returncode == code, stderr
     assert "Traceback" not in stderr and len(stderr.strip().splitlines()) == 1
     part = Result(out)
-    assert part.attrs["status"] == "interrupted"
+    assert part.status == "interrupted"
     ref = Result(tmp_path / "full.h5")
-    k = int(part["solver/slab"][-1])
+    k = int(part.solver["slab"][-1])
     assert 0 < k < 3000
     # every row kept before the signal is the uninterrupted run's
-    n = part["time"].size - 1
-    assert np.array_equal(part["body/a/u"][:n], ref["body/a/u"][:n])
+    n = part.time.size - 1
+    assert np.array_equal(part.body("a").u[:n], ref.body("a").u[:n])
     p = cli("run", case, "--restart", out, "--quiet", timeout=300)
     assert p.returncode == 0, p.stderr
     done = Result(out)
-    assert done.attrs["status"] == "completed" and done.attrs["restarts"] == 1
+    assert done.status == "completed" and done.attrs["restarts"] == 1
     for key in ("body/a/u", "body/a/v", "body/b/u", "body/b/v", "contact/0/impulse_total",
                 "contact/0/episodes", "energy/kinetic"):
         assert np.array_equal(done[key][-1], ref[key][-1]), key
-    assert done["time"][-1] == ref["time"][-1]
+    assert done.time[-1] == ref.time[-1]
 
 
 def test_sigkill_leaves_a_readable_unfinished_file(tmp_path):
@@ -91,12 +92,12 @@ def test_sigkill_leaves_a_readable_unfinished_file(tmp_path):
     # and the run continues from the last complete row
     p = cli("run", case, "--restart", out, "--quiet", timeout=300)
     assert p.returncode == 0, p.stderr
-    assert Result(out).attrs["status"] == "completed"
+    assert Result(out).status == "completed"
 
 
 def test_restart_refuses_a_different_case(tmp_path):
     case = tmp_path / "case.toml"
-    text = time_table(0.01, 0.5) + body("a", (0.0, 1.0), 20, E=1.0, rho=1.0, v0=1.0)
+    text = make_case(0.01, 0.5, [bar("a", (0.0, 1.0), 20, E=1.0, rho=1.0, v0=1.0)]).to_toml()
     case.write_text(text)
     out = tmp_path / "r.h5"
     assert cli("run", case, "-o", out, "--quiet").returncode == 0
@@ -104,7 +105,7 @@ def test_restart_refuses_a_different_case(tmp_path):
     assert p.returncode == 2 and "already reaches slab 50" in p.stderr
     case.write_text(text.replace("end = 0.5", "end = 0.8"))       # only end: allowed
     assert cli("run", case, "--restart", out, "--quiet").returncode == 0
-    assert Result(out)["time"][-1] == pytest.approx(0.8)
+    assert Result(out).time[-1] == pytest.approx(0.8)
     case.write_text(text.replace("end = 0.5", "end = 0.9").replace("E = 1.0", "E = 2.0"))
     p = cli("run", case, "--restart", out)
     assert p.returncode == 2 and "differs" in p.stderr and "Traceback" not in p.stderr
