@@ -8,7 +8,6 @@ Used by bench/run.py.
 """
 
 import os
-import resource
 import statistics
 import subprocess
 import sys

@@ -78,15 +78,8 @@ def parse_options(args, positional, flags=(), valued=("-o", "--output")):
 
 
 def _rank():
-    """This process's MPI rank, without starting MPI when it is not started:
-    every rank validates the same input and fails alike, and only rank 0
-    speaks."""
-    if "petsc4py.PETSc" in sys.modules:
-        return sys.modules["petsc4py.PETSc"].COMM_WORLD.getRank()
-    for var in ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"):
-        if os.environ.get(var, "").isdigit():
-            return int(os.environ[var])
-    return 0
+    from vstpetsc.petsc import rank
+    return rank()
 
 
 def _fail(lines, code, kind="error: "):

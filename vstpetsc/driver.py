@@ -64,10 +64,10 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
         "interrupted"; continue with ``restart=True``.
     """
     from vstpetsc import petsc
-    PETSc = petsc.initialize()
-    from vstpetsc.petsc.options import scoped
+    from vstpetsc.petsc.options import scoped, translate
 
-    comm = PETSc.COMM_WORLD if comm is None else PETSc.Comm(comm)
+    petsc.initialize(translate(options))
+    comm = petsc.communicator(comm)
     output = case.output_file if output is None else str(output)
     with scoped(options):
         loop = TimeLoop(case, output, comm, quiet, out or sys.stdout, err or sys.stderr)
@@ -82,6 +82,7 @@ class TimeLoop:
     """One run: the model, its solver, the writer and the loop over slabs."""
 
     def __init__(self, case, output, comm, quiet, out, err):
+        from vstpetsc.petsc.failures import setup_error
         from vstpetsc.petsc.options import SolverOptions
         from vstpetsc.petsc.slab_solver import SlabSolver
 
@@ -95,7 +96,10 @@ class TimeLoop:
         try:
             self.solver = SlabSolver(self.model, case.dt, comm, options)
         except Exception as exc:
-            raise InputError(_setup_problem(exc)) from None
+            error = setup_error(exc)
+            if error is None:
+                raise
+            raise error from None
         self.start = t0
         self.setup_time = time.perf_counter() - t0
         self.loads = SlabLoads(self.model.laws)
@@ -183,10 +187,9 @@ class TimeLoop:
     def _stop(self, exc, k, progress):
         """End a run that stopped inside the loop: close the file with the
         right status and raise the error the caller reports."""
-        from petsc4py import PETSc
+        from vstpetsc.petsc.failures import slab_error
 
-        if isinstance(exc, PETSc.Error):    # e.g. an option that breaks a solver
-            exc = SolveFailed(f"slab {k}: PETSc error {exc.ierr}: {petsc_message(exc)}")
+        exc = slab_error(exc, k)
         if not isinstance(exc, (SolveFailed, Interrupted)):
             raise exc
         status = "interrupted" if isinstance(exc, Interrupted) else "failed"
@@ -252,25 +255,6 @@ def describe_model(case, model, output):
                      f" c = {c:.6g}, c dt / h = {c * case.dt / h:.3g}")
     lines += [f"  {law.describe()}" for law in model.laws if law.describe()]
     return "\n".join(lines)
-
-
-def petsc_message(exc):
-    """The most specific line of a petsc4py error's traceback."""
-    lines = [l.split("]", 1)[-1].strip() for l in str(exc).strip().splitlines()]
-    text = [l for l in lines if l and "() at " not in l and not l.startswith("error code")]
-    return "; ".join(reversed(text[-2:])) if text else lines[-1]   # most specific first
-
-
-def _setup_problem(exc):
-    """One line for a solver that cannot be set up with the given options."""
-    from petsc4py import PETSc
-
-    if isinstance(exc, PETSc.Error):
-        return ("PETSc could not set up the solver with these options "
-                f"(error {exc.ierr}: {petsc_message(exc)})")
-    if isinstance(exc, InputError):
-        return str(exc)
-    raise exc
 
 
 class Progress:

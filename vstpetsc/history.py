@@ -34,6 +34,15 @@ class History:
     def is_zero(self):
         return not np.any(self.f)
 
+    def __eq__(self, other):
+        return (isinstance(other, History) and np.array_equal(self.t, other.t)
+                and np.array_equal(self.f, other.f))
+
+    def __repr__(self):
+        if self.t.size == 1:
+            return f"History({self.f[0]!r})"
+        return f"History({self.t.size} points, {self.t[0]:g} .. {self.t[-1]:g})"
+
     def __call__(self, t):
         return np.interp(t, self.t, self.f)
 

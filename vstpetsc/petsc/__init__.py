@@ -1,10 +1,12 @@
 """Everything of vstpetsc that imports petsc4py: the slab matrices, the
-factored linear solver, Newton on the laws' dofs, options.
+factored linear solver, Newton on the laws' dofs, options, and the
+translation of PETSc's errors.
 
 ``initialize(args)`` starts PETSc with command-line options when it has not
 started yet (options such as -log_view act only at start-up).
 """
 
+import os
 import sys
 
 
@@ -16,3 +18,20 @@ def initialize(args=()):
         petsc4py.init([sys.argv[0] if sys.argv and sys.argv[0] else "vstpetsc", *args])
     from petsc4py import PETSc
     return PETSc
+
+
+def communicator(comm=None):
+    """A PETSc communicator from a PETSc or mpi4py one (default: every rank)."""
+    PETSc = initialize()
+    return PETSc.COMM_WORLD if comm is None else PETSc.Comm(comm)
+
+
+def rank():
+    """This process's MPI rank, without starting MPI when it has not started
+    (the command line validates input before, and only rank 0 speaks)."""
+    if "petsc4py.PETSc" in sys.modules:
+        return sys.modules["petsc4py.PETSc"].COMM_WORLD.getRank()
+    for var in ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"):
+        if os.environ.get(var, "").isdigit():
+            return int(os.environ[var])
+    return 0

@@ -38,57 +38,67 @@ def result_figure(result, max_rows=800):
     from matplotlib.ticker import MaxNLocator
 
     r = result if isinstance(result, Result) else Result(result)
-    a = r.attrs
-    u = units(a)
+    u = units(r.attrs)
+    fig = plt.figure(figsize=(11, 8.5), constrained_layout=True)
+    grid = fig.add_gridspec(2, 2, height_ratios=[1.35, 1])
+    velocity_map(fig, fig.add_subplot(grid[0, :]), r, u, max_rows)
+    axes = (contact_panel(fig.add_subplot(grid[1, 0]), r, u),
+            energy_panel(fig.add_subplot(grid[1, 1]), r, u))
+    for ax in axes:
+        ax.xaxis.set_major_locator(MaxNLocator(5))
+    return fig
+
+
+def velocity_map(fig, ax, r, u, max_rows):
+    """(a) velocity over reference position and time, walls drawn."""
     t = r.time
     rows = np.unique(np.linspace(0, t.size - 1, min(t.size, max_rows)).astype(int))
     bodies = [(r.body(name).x, r.read(layout.body_path(name, "v"), np.s_[rows, :]), name)
               for name in r.bodies]
-    pairs = [(r.contact(k).force, r.contact(k).attrs) for k in range(r.ncontacts)]
-    kin, strain = r.energy["kinetic"], r.energy["strain"]
-    status = text(a.get("status", ""))
-
-    fig = plt.figure(figsize=(11, 8.5), constrained_layout=True)
-    grid = fig.add_gridspec(2, 2, height_ratios=[1.35, 1])
-    ax_map = fig.add_subplot(grid[0, :])
     vmax = max(np.abs(v).max() for _, v, _ in bodies) or 1.0
     for x, v, name in bodies:
-        mesh = ax_map.pcolormesh(x, t[rows], v, cmap="RdBu_r", vmin=-vmax, vmax=vmax,
-                                 shading="gouraud")
-        ax_map.text(0.5 * (x[0] + x[-1]), 0.985, name, ha="center", va="top", fontsize=9,
-                    transform=ax_map.get_xaxis_transform(),
-                    bbox=dict(boxstyle="round", fc="white", alpha=0.8, lw=0))
+        mesh = ax.pcolormesh(x, t[rows], v, cmap="RdBu_r", vmin=-vmax, vmax=vmax,
+                             shading="gouraud")
+        ax.text(0.5 * (x[0] + x[-1]), 0.985, name, ha="center", va="top", fontsize=9,
+                transform=ax.get_xaxis_transform(),
+                bbox=dict(boxstyle="round", fc="white", alpha=0.8, lw=0))
         for end in (x[0], x[-1]):
-            ax_map.axvline(end, color="0.3", lw=0.6)
-    for _, attrs in pairs:
-        wall = attrs.get("wall", np.nan)
+            ax.axvline(end, color="0.3", lw=0.6)
+    for k in range(r.ncontacts):
+        wall = r.contact(k).attrs.get("wall", np.nan)
         if np.isfinite(wall):
-            ax_map.axvline(wall, color="k", lw=3)
-    fig.colorbar(mesh, ax=ax_map, label=f"velocity [{u['velocity']}]")
-    ax_map.set_xlabel(f"x [{u['length']}] (reference position)")
-    ax_map.set_ylabel(f"t [{u['time']}]")
-    ax_map.set_title(f"(a) velocity over space and time ({status})")
+            ax.axvline(wall, color="k", lw=3)
+    fig.colorbar(mesh, ax=ax, label=f"velocity [{u['velocity']}]")
+    ax.set_xlabel(f"x [{u['length']}] (reference position)")
+    ax.set_ylabel(f"t [{u['time']}]")
+    ax.set_title(f"(a) velocity over space and time ({text(r.attrs.get('status', ''))})")
 
-    ax_f = fig.add_subplot(grid[1, 0])
-    for k, (force, attrs) in enumerate(pairs):
-        name = text(attrs.get("pair", str(k)))
-        ax_f.step(t, force, where="pre", label=f"[{k}] {name.replace(',', ' | ')}")
-    if pairs:
-        ax_f.legend(fontsize=8)
+
+def contact_panel(ax, r, u):
+    """(b) slab-mean contact force of every pair."""
+    t = r.time
+    for k in range(r.ncontacts):
+        pair = r.contact(k)
+        name = text(pair.attrs.get("pair", str(k)))
+        ax.step(t, pair.force, where="pre", label=f"[{k}] {name.replace(',', ' | ')}")
+    if r.ncontacts:
+        ax.legend(fontsize=8)
     else:
-        ax_f.text(0.5, 0.5, "no contact pairs", ha="center", transform=ax_f.transAxes)
-    ax_f.set_xlabel(f"t [{u['time']}]")
-    ax_f.set_ylabel(f"slab-mean contact force [{u['force']}]")
-    ax_f.set_title("(b) contact force (compressive positive)")
+        ax.text(0.5, 0.5, "no contact pairs", ha="center", transform=ax.transAxes)
+    ax.set_xlabel(f"t [{u['time']}]")
+    ax.set_ylabel(f"slab-mean contact force [{u['force']}]")
+    ax.set_title("(b) contact force (compressive positive)")
+    return ax
 
-    ax_e = fig.add_subplot(grid[1, 1])
-    ax_e.plot(t, kin, label="kinetic")
-    ax_e.plot(t, strain, label="strain")
-    ax_e.plot(t, kin + strain, "k", lw=1.5, label="total")
-    ax_e.set_xlabel(f"t [{u['time']}]")
-    ax_e.set_ylabel(f"energy [{u['energy']}]")
-    ax_e.set_title("(c) energy")
-    ax_e.legend(fontsize=8)
-    for ax in (ax_f, ax_e):
-        ax.xaxis.set_major_locator(MaxNLocator(5))
-    return fig
+
+def energy_panel(ax, r, u):
+    """(c) kinetic, strain and total energy."""
+    t, kin, strain = r.time, r.energy["kinetic"], r.energy["strain"]
+    ax.plot(t, kin, label="kinetic")
+    ax.plot(t, strain, label="strain")
+    ax.plot(t, kin + strain, "k", lw=1.5, label="total")
+    ax.set_xlabel(f"t [{u['time']}]")
+    ax.set_ylabel(f"energy [{u['energy']}]")
+    ax.set_title("(c) energy")
+    ax.legend(fontsize=8)
+    return ax

@@ -88,5 +88,5 @@ def format_summary(s, path):
     if not np.isnan(s["wall_time"]):
         lines.append(f"  wall time {s['wall_time']:.3f} s")
     if s["every"] > 1:
-        lines.append(f"  (contact totals over every slab; penetration at kept times only)")
+        lines.append("  (contact totals over every slab; penetration at kept times only)")
     return "\n".join(lines)
