@@ -4,6 +4,7 @@ rank owns a contact pair's nodes; errors end every rank with one message."""
 import os
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -18,8 +19,8 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 VARYING_ATTRS = {"mpi_size", "solver", "petsc_options", "wall_time", "setup_time"}
 
 
-def mpirun(*args, n=2, timeout=240):
-    return subprocess.run(["mpirun", "-n", str(n), VSTPETSC, *map(str, args)],
+def mpirun(*args, n=2, timeout=240, program=VSTPETSC):
+    return subprocess.run(["mpirun", "-n", str(n), *program.split(), *map(str, args)],
                           capture_output=True, text=True, timeout=timeout, env=ENV)
 
 
@@ -149,4 +150,20 @@ def test_petsc_options_reach_both_ranks(tmp_path):
     assert p.returncode == 0, p.stderr
     assert "type: gmres" in p.stdout and "type: bjacobi" in p.stdout
     assert "number of blocks = 2" in p.stdout and "SNES Function norm" in p.stdout
+    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
+
+
+def test_python_api_under_mpirun(tmp_path):
+    """vstpetsc.run from a script started by mpirun: every rank calls it,
+    and every rank gets the Result."""
+    script = tmp_path / "script.py"
+    script.write_text("import sys, vstpetsc\n"
+                      "case = vstpetsc.Case.from_toml(sys.argv[1])\n"
+                      "r = vstpetsc.run(case, output=sys.argv[2], quiet=True)\n"
+                      "print('ranks', r.attrs['mpi_size'], 'slabs', r.run.slabs)\n")
+    case = two_bars(tmp_path)
+    assert cli("run", case, "-o", tmp_path / "one.h5", "--quiet").returncode == 0
+    p = mpirun(script, case, tmp_path / "two.h5", program=sys.executable)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.count("ranks 2 slabs 250") == 2
     assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")

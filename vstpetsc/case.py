@@ -113,6 +113,7 @@ class Case:
         return self.resolve(self.output_path)
 
     def resolve(self, path):
+        """``path`` relative to the case's folder (absolute paths unchanged)."""
         return os.path.join(self.folder, os.path.expanduser(path))
 
     def restart_key(self):

@@ -71,6 +71,7 @@ class Result:
             return list(f[group].keys()) if group else list(f.keys())
 
     def group_attrs(self, group=""):
+        """The attributes of ``group`` (strings decoded)."""
         with self._open() as f:
             return {k: text(v) if isinstance(v, (bytes, str)) else v
                     for k, v in f[group or "/"].attrs.items()}
@@ -82,10 +83,12 @@ class Result:
 
     @property
     def status(self):
+        """"running", "completed", "failed" or "interrupted"."""
         return self.attrs.get("status", "?")
 
     @property
     def time(self):
+        """The kept times (t = 0 and the kept slab ends)."""
         return self[layout.TIME]
 
     def body(self, name):
@@ -108,6 +111,7 @@ class Result:
 
     @property
     def solver(self):
+        """{name: array} of the solver datasets (iterations, wall time, slab)."""
         return Group(self, "solver")
 
     def summary(self):
