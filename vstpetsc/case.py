@@ -116,6 +116,11 @@ class Case:
         """``path`` relative to the case's folder (absolute paths unchanged)."""
         return os.path.join(self.folder, os.path.expanduser(path))
 
+    def inputs(self):
+        """The files the case was read from (a result must not overwrite
+        them)."""
+        return [self.source] if os.path.isfile(self.source) else []
+
     def restart_key(self):
         """What must match for a restart: the case without time.end and
         output.path (a run may be extended and its file moved)."""

@@ -99,15 +99,29 @@ def main(argv=None):
         from vstpetsc import __version__
         print(f"vstpetsc {__version__}")
         return 0
-    from vstpetsc.errors import CaseError, InputError, Interrupted, SolveFailed
-
     command, rest = argv[0], argv[1:]
     commands = {"run": _run, "example": _example, "info": _info, "plot": _plot}
     if command not in commands:
         return _fail([f"unknown command {command!r} (commands: {', '.join(commands)})"],
                      EXIT_BAD_INPUT)
+    if "--help" in rest or "-h" in rest:
+        print(USAGE)
+        return 0
+    code = _command(commands[command], rest)
+    writer = sys.modules.get("vstpetsc.results.writer")
+    if writer is not None and writer.unclosable():   # closing that file would crash
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    return code
+
+
+def _command(command, rest):
+    """Run one command; exceptions become messages and exit statuses."""
+    from vstpetsc.errors import CaseError, InputError, Interrupted, SolveFailed
+
     try:
-        return commands[command](rest)
+        return command(rest)
     except CaseError as exc:
         return _fail(exc.problems, EXIT_BAD_INPUT)
     except (UsageError, InputError) as exc:
@@ -161,6 +175,7 @@ def _solve(case, out_path, petsc_args, opts):
     from vstpetsc import petsc, run
     from vstpetsc.errors import Interrupted, SolveFailed
     from vstpetsc.petsc.options import translate
+    from vstpetsc.results.writer import OutputFailed
 
     petsc.initialize(translate(petsc_args))
     try:
@@ -169,6 +184,8 @@ def _solve(case, out_path, petsc_args, opts):
     except Interrupted as exc:
         raise Interrupted(exc.signum, f"{exc}; result kept in {out_path} "
                           "(status \"interrupted\")") from None
+    except OutputFailed:
+        raise
     except SolveFailed as exc:
         raise SolveFailed(f"{exc}; result kept in {out_path} (status \"failed\")") from None
     info = result.run

@@ -12,6 +12,7 @@ from vstpetsc import model as model_mod
 from vstpetsc.errors import InputError, Interrupted, SolveFailed
 from vstpetsc.loading import SlabLoads
 from vstpetsc.results import layout
+from vstpetsc.results.files import path_problem, same_file
 from vstpetsc.results.reader import Result
 
 
@@ -57,8 +58,8 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
     vstpetsc.InputError
         An option or the output cannot be used (nothing written).
     vstpetsc.SolveFailed
-        A slab could not be solved: the file keeps every slab before it,
-        with status "failed".
+        A slab could not be solved, or the file could not be written: the
+        file keeps every slab before it, with status "failed".
     vstpetsc.Interrupted
         SIGTERM or SIGINT: the file keeps every slab so far, status
         "interrupted"; continue with ``restart=True``.
@@ -66,9 +67,10 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
     from vstpetsc import petsc
     from vstpetsc.petsc.options import scoped, translate
 
+    output = case.output_file if output is None else str(output)
+    check_output(case, output)
     petsc.initialize(translate(options))
     comm = petsc.communicator(comm)
-    output = case.output_file if output is None else str(output)
     with scoped(options):
         loop = TimeLoop(case, output, comm, quiet, out or sys.stdout, err or sys.stderr)
         info = loop.execute(restart, " ".join(map(str, options)))
@@ -76,6 +78,18 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
     result = Result(output)
     result.run = info
     return result
+
+
+def check_output(case, output):
+    """InputError if ``output`` cannot be written or is one of the case's
+    own files."""
+    problem = path_problem(output)
+    if problem:
+        raise InputError(f"output: {problem}")
+    for source in case.inputs():
+        if same_file(output, source):
+            raise InputError(f"output: {output} is the case's input file {source}; "
+                             "choose another result file")
 
 
 class TimeLoop:
@@ -91,17 +105,17 @@ class TimeLoop:
         self.talk = self.rank0 and not quiet
         self.out, self.err = out, err
         self.model = model_mod.build_model(case)
-        t0 = time.perf_counter()
-        options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
+        self.start = time.perf_counter()
+        self.options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
         try:
-            self.solver = SlabSolver(self.model, case.dt, comm, options)
+            self.solver = SlabSolver(self.model, case.dt, comm, self.options)
         except Exception as exc:
             error = setup_error(exc)
             if error is None:
                 raise
             raise error from None
-        self.start = t0
-        self.setup_time = time.perf_counter() - t0
+        self.setup_time = time.perf_counter() - self.start
+        self.space = self.solver.space
         self.loads = SlabLoads(self.model.laws)
         self.writer = None
 
@@ -109,7 +123,14 @@ class TimeLoop:
         """Solve every slab; return a RunInfo."""
         case, model = self.case, self.model
         if restart:
-            k0, u, v, energy0, rhs = load_restart(self.output, case, model)
+            lock = self._lock_existing()
+            try:
+                k0, u, v, energy0, rhs = load_restart(self.output, case, model)
+            except InputError:
+                if lock:
+                    lock.release()
+                raise
+            self.lock = lock
         else:
             k0, rhs = 0, None
             u, v = model_mod.initial_state(model)
@@ -117,37 +138,63 @@ class TimeLoop:
         self.solver.set_state(u, v)
         if rhs is not None:
             self.solver.set_rhs_state(rhs)
+        self._open_writer(restart, petsc_options, u, v)
         if self.talk:
             self.out.write(header(case, model, self.output, self.solver, self.comm.getSize()))
             if restart:
                 self.out.write(f"  restart from slab {k0} (t = {k0 * case.dt:g})\n")
             self.out.flush()
-        if self.rank0:
-            self._open_writer(restart, petsc_options, u, v)
         energy1 = self._loop(k0)
-        wall = time.perf_counter() - self.start
-        rhs = self.solver.rhs_state()        # collective
-        if self.writer:
-            self.writer.save_rhs_state(rhs, case.nslabs)
-            self.writer.close("completed", slabs_done=case.nslabs, wall_time=wall,
-                              setup_time=self.setup_time)
-        return RunInfo(case.nslabs - k0, wall, energy0, energy0 if energy1 is None else energy1)
+        self._close("completed", case.nslabs, snapshot=True,
+                    wall_time=time.perf_counter() - self.start, setup_time=self.setup_time)
+        return RunInfo(case.nslabs - k0, time.perf_counter() - self.start, energy0,
+                       energy0 if energy1 is None else energy1)
+
+    def _lock_existing(self):
+        """Rank 0 locks the file to continue (None elsewhere); a busy file
+        stops every rank before anything is read or written."""
+        from vstpetsc.results.files import OutputLock
+
+        lock, error = None, None
+        if self.rank0:
+            try:
+                lock = OutputLock(self.output)
+                lock.existing()
+            except InputError as exc:
+                error, lock = str(exc), None
+            except OSError as exc:
+                error, lock = f"--restart: cannot open {self.output} ({exc.strerror})", None
+        error = self.space.from_rank0(error)
+        if error:
+            raise InputError(error)
+        return lock
 
     def _open_writer(self, restart, petsc_options, u, v):
+        """The writer on rank 0; its verdict (e.g. a busy file) on every rank."""
         from vstpetsc.results.writer import ResultWriter
 
         case, model = self.case, self.model
-        attrs = {"case": case.text, "petsc_options": petsc_options,
-                 "mpi_size": self.comm.getSize(), "formulation": layout.formulation(model),
-                 "dt": case.dt, "slabs": case.nslabs, "every": case.every,
-                 **{f"unit_{k}": v for k, v in case.units.items()},
-                 "solver": self.solver.describe()}
-        if restart:
-            self.writer = ResultWriter.reopen(self.output, attrs)
-            return
-        self.writer = ResultWriter(self.output, layout.series(model), layout.statics(model),
-                                   layout.group_attrs(model), attrs)
-        self.writer.append(layout.row(model, 0, case.dt, u, v, (0, 0), 0.0))
+        error = None
+        if self.rank0:
+            attrs = {"case": case.text, "petsc_options": petsc_options,
+                     "mpi_size": self.comm.getSize(), "formulation": layout.formulation(model),
+                     "dt": case.dt, "slabs": case.nslabs, "every": case.every,
+                     **{f"unit_{k}": v for k, v in case.units.items()},
+                     "solver": self.solver.describe()}
+            interval = self.options.flush_interval
+            try:
+                if restart:
+                    self.writer = ResultWriter.reopen(self.lock, attrs, interval)
+                else:
+                    first = layout.row(model, 0, case.dt, u, v, (0, 0), 0.0)
+                    self.writer = ResultWriter.create(
+                        self.output, layout.series(model), layout.statics(model),
+                        layout.group_attrs(model), attrs, first, interval)
+            except InputError as exc:
+                error = str(exc)
+        error = self.space.from_rank0(error)
+        if error:
+            raise InputError(error)
 
     def _loop(self, k0):
         """Slabs k0+1 .. n; the energy of the last kept row (None if none)."""
@@ -163,7 +210,7 @@ class TimeLoop:
                     its = solver.solve(k)
                     solver.laws.finish_slab(t0, dt)
                     solver.advance()
-                    signum = self.solver.space.max_over_ranks(stop.signum)
+                    signum = self.space.max_over_ranks(stop.signum)
                     if k % case.every == 0 or k == n or signum:
                         energy1 = self._record(k, its)
                     progress.update(k - k0, t1, force=k == n)
@@ -171,20 +218,49 @@ class TimeLoop:
                         raise Interrupted(signum, f"stopped by {signal.Signals(signum).name} "
                                           f"after slab {k} (t = {t1:g}); continue with --restart")
             except Exception as exc:
-                self._stop(exc, k, progress)
+                progress.done()
+                self._stop(exc, k)
         progress.done()
         return energy1
 
     def _record(self, k, its):
+        """Keep slab k: its row on rank 0, a block to the file when due."""
         state = self.solver.gather_state()
-        if not self.rank0:
-            return None
-        u, v = state
-        row = layout.row(self.model, k, self.case.dt, u, v, its, time.perf_counter() - self.start)
-        self.writer.append(row)
-        return row["energy/kinetic"] + row["energy/strain"]
+        energy = None
+        if self.rank0:
+            u, v = state
+            row = layout.row(self.model, k, self.case.dt, u, v, its,
+                             time.perf_counter() - self.start)
+            self.writer.append(row)
+            energy = row["energy/kinetic"] + row["energy/strain"]
+        if self.space.max_over_ranks(int(self.rank0 and self.writer.due())):
+            self._flush(k)
+        return energy
 
-    def _stop(self, exc, k, progress):
+    def _flush(self, k):
+        """Write the buffered rows with the restart state of slab k."""
+        from vstpetsc.results.writer import OutputFailed
+
+        rhs = self.solver.rhs_state()          # collective
+        error = None
+        if self.rank0:
+            try:
+                self.writer.flush({layout.RHS_STATE: rhs}, k)
+            except OutputFailed as exc:
+                error = str(exc)
+        error = self.space.from_rank0(error)
+        if error:
+            raise OutputFailed(error)
+
+    def _close(self, status, slab, snapshot, **attrs):
+        """Close the file on rank 0 (collective when ``snapshot``)."""
+        rhs = self.solver.rhs_state() if snapshot else None
+        if self.writer:
+            writer, self.writer = self.writer, None
+            writer.close(status, {layout.RHS_STATE: rhs} if snapshot else None, slab,
+                         slabs_done=slab, **attrs)
+
+    def _stop(self, exc, k):
         """End a run that stopped inside the loop: close the file with the
         right status and raise the error the caller reports."""
         from vstpetsc.petsc.failures import slab_error
@@ -192,14 +268,12 @@ class TimeLoop:
         exc = slab_error(exc, k)
         if not isinstance(exc, (SolveFailed, Interrupted)):
             raise exc
-        status = "interrupted" if isinstance(exc, Interrupted) else "failed"
-        done = k if status == "interrupted" else k - 1
-        progress.done()
-        rhs = self.solver.rhs_state() if status == "interrupted" else None  # collective
-        if self.writer:
-            if rhs is not None:
-                self.writer.save_rhs_state(rhs, k)
-            self.writer.close(status, message=str(exc), slabs_done=done)
+        interrupted = isinstance(exc, Interrupted)
+        try:
+            self._close("interrupted" if interrupted else "failed", k if interrupted else k - 1,
+                        snapshot=interrupted, message=str(exc))
+        except SolveFailed as failed:          # the file cannot be written either
+            raise failed from None
         raise exc from None
 
 
@@ -212,7 +286,7 @@ def load_restart(path, case, model):
     from vstpetsc.case import Case
 
     try:
-        f = h5py.File(path, "r")
+        f = h5py.File(path, "r", locking=False)
     except OSError:
         raise InputError(f"--restart: cannot open {path} as an HDF5 file") from None
     with f:
@@ -221,6 +295,10 @@ def load_restart(path, case, model):
         if Case.from_text(f.attrs["case"]).restart_key() != case.restart_key():
             raise InputError(f"--restart: the case differs from the one stored in {path} "
                              "in more than time.end (and output.path)")
+        if int(f.attrs.get("every", 1)) != case.every:
+            raise InputError(f"--restart: {path} keeps every {int(f.attrs['every'])} slabs; "
+                             f"continuing with every {case.every} would mix two samplings "
+                             f"(give --every {int(f.attrs['every'])})")
         k0, u, v, values = layout.last_state(f, model)
         if k0 >= case.nslabs:
             raise InputError(f"--restart: {path} already reaches slab {k0} (t = "

@@ -105,13 +105,16 @@ class SolverOptions:
     - ``-vst_newton condensed|full``: Newton on the laws' dofs (default) or
       on all unknowns;
     - ``-vst_fd_jacobian``: the laws' tangent by central differences;
-    - ``-vst_ownership n0,n1,...``: nodes per rank (the DMDA layout).
+    - ``-vst_ownership n0,n1,...``: nodes per rank (the DMDA layout);
+    - ``-vst_flush_interval SECONDS``: the longest wall time between two
+      blocks of rows written to the result file (0: every kept row).
     """
 
     mat_type: str = "baij"
     newton: str = "condensed"
     fd_jacobian: bool = False
     ownership: tuple | None = None
+    flush_interval: float = 0.5
 
     @classmethod
     def read(cls, nnodes, size):
@@ -124,8 +127,14 @@ class SolverOptions:
         newton = opts.getString(PREFIX + "newton", "condensed")
         if newton not in NEWTONS:
             raise InputError(f"-vst_newton: 'condensed' or 'full', got {newton!r}")
+        text = opts.getString(PREFIX + "flush_interval", "0.5")
+        try:
+            interval = float(text)
+            assert interval >= 0
+        except (ValueError, AssertionError):
+            raise InputError(f"-vst_flush_interval: seconds >= 0, got {text!r}") from None
         return cls(mat_type, newton, opts.getBool(PREFIX + "fd_jacobian", False),
-                   _ownership(opts, nnodes, size))
+                   _ownership(opts, nnodes, size), interval)
 
 
 def _ownership(opts, nnodes, size):

@@ -35,10 +35,17 @@ class Space:
         return self._zero.getArray(readonly=True).copy()
 
     def max_over_ranks(self, value):
+        """The largest of every rank's ``value`` (a number), on every rank."""
         if self.comm.getSize() == 1:
             return value
         from mpi4py import MPI
         return self.comm.tompi4py().allreduce(value, op=MPI.MAX)
+
+    def from_rank0(self, obj):
+        """Rank 0's ``obj`` on every rank."""
+        if self.comm.getSize() == 1:
+            return obj
+        return self.comm.tompi4py().bcast(obj, root=0)
 
 
 class DofGather:

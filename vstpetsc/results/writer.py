@@ -1,100 +1,266 @@
-"""Writes a result file (names: :mod:`vstpetsc.results.layout`).  Rank 0
-only; every kept slab is appended and flushed as it is computed."""
+"""Writes a result file (names: :mod:`vstpetsc.results.layout`), on rank 0.
+
+Kept rows are buffered in memory and written in blocks: when the buffer is
+full or ``interval`` seconds (wall time) after the previous block, and
+always when the run ends, fails or is stopped.  With every block go the
+snapshots (the running right-hand side, the state a restart needs, taken
+at the block's last row) and an HDF5 flush, so a file whose writer was
+killed holds every row up to its last block, and ``--restart`` continues
+it bit for bit.
+
+Disk space for a block is reserved before HDF5 writes it
+(:class:`~vstpetsc.results.files.DiskReserve`); a full disk is then an
+:class:`OutputFailed` while the file is intact (status "failed", every
+earlier block kept).  An HDF5 error despite that (another process filled
+the disk meanwhile) leaves the file unclosed: HDF5 1.10 crashes when such
+a file is closed (see :func:`unclosable`).
+"""
+
+import os
+import re
+import time
 
 import h5py
 import numpy as np
 
 from vstpetsc import __version__
+from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.results import layout
+from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
+
+BUFFER_VALUES = 1 << 21          # doubles per series buffer (16 MB)
+MARGIN = 1 << 18                 # bytes reserved beyond a block's estimate
+_UNCLOSABLE = []                 # files HDF5 failed to write: never closed
+
+
+class OutputFailed(SolveFailed):
+    """The result file could not be written (disk full, I/O error)."""
+
+
+def unclosable():
+    """Whether a result file of this process hit an HDF5 write error; such
+    a file must not be closed, so the process should end with os._exit."""
+    return bool(_UNCLOSABLE)
 
 
 class ResultWriter:
-    """Appends kept slabs to an HDF5 file.
+    """Buffered appends to an HDF5 result file, under an :class:`OutputLock`.
 
-    Parameters
-    ----------
-    path : str
-    series : list of (dataset name, row shape), from layout.series
-    statics : dict of datasets written once (node coordinates)
-    groups : dict of group attributes
-    attrs : dict of root attributes (status is set here)
+    Use :meth:`create` (a new file) or :meth:`reopen` (a restart).
     """
 
-    def __init__(self, path, series, statics, groups, attrs):
-        self.f = h5py.File(path, "w")
-        self.n = 0
-        f = self.f
-        f.attrs["status"] = "running"
-        f.attrs["version"] = __version__
-        for k, v in attrs.items():
-            f.attrs[k] = v
-        for name, data in statics.items():
-            f.create_dataset(name, data=data)
-        for group, group_attrs in groups.items():
-            g = f.require_group(group)
-            for k, v in group_attrs.items():
-                g.attrs[k] = v
-        self.series = {}
-        for name, tail in series:
-            self._create(name, tail)
-        f.require_group(layout.CONTACT)
-        f.flush()
+    def __init__(self, f, lock, interval, fd):
+        self.f, self.lock, self.interval = f, lock, interval
+        self.reserve = DiskReserve(fd)
+        self.series, self.buffers = {}, {}
+        self.capacity = None
+        self.n = self.f[layout.TIME].shape[0]   # rows in the file
+        self.pending = 0                         # rows in the buffers
+        self.flushed_slab = None
+        self.last_flush = time.monotonic()
+        self.broken = False
 
-    def _create(self, name, tail):
+    @classmethod
+    def create(cls, path, series, statics, groups, attrs, first_row, interval=0.5):
+        """A new file: written under a temporary name with ``first_row``,
+        then renamed to ``path``; InputError if it cannot be."""
+        lock = OutputLock(path)
+        temp, f, fd, self = lock.new(), None, None, None
+        try:
+            f = h5py.File(temp, "w", locking=False)
+            fd = os.open(temp, os.O_RDWR)
+            header = sum(np.asarray(a).nbytes for a in statics.values())
+            DiskReserve(fd).ensure(f.id.get_filesize(), header + MARGIN)
+            _header(f, series, statics, groups, attrs)
+            self = cls(f, lock, interval, fd)
+            self.append(first_row)
+            self.flush()
+            lock.publish(fd)
+        except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
+            hdf5_failed = self.broken if self is not None else not isinstance(exc, DiskFull)
+            _abandon(f, hdf5_failed)
+            if fd is not None and lock.fd is None:
+                os.close(fd)
+            lock.release()
+            raise InputError(f"output: cannot create {path}: {_reason(exc)}") from None
+        return self
+
+    @classmethod
+    def reopen(cls, lock, attrs, interval=0.5):
+        """Append to an existing result file (a restart) whose
+        :class:`OutputLock` the caller holds (and hands over)."""
+        path = lock.path
+        try:
+            f = h5py.File(path, "a", locking=False)
+            DiskReserve(lock.fd).ensure(f.id.get_filesize(), MARGIN)
+            for k, v in attrs.items():
+                f.attrs[k] = v
+            f.attrs["status"] = "running"
+            f.attrs["restarts"] = int(f.attrs.get("restarts", 0)) + 1
+            f.flush()
+        except (OSError, RuntimeError, ValueError) as exc:
+            lock.release()
+            raise InputError(f"--restart: cannot append to {path}: {_reason(exc)}") from None
+        return cls(f, lock, interval, lock.fd)
+
+    def _track(self):
+        """Buffers and low-level handles of every series (h5py's high-level
+        resize and item assignment cost ~200 us a call)."""
+        for name, ds in _series_of(self.f):
+            tail = ds.shape[1:]
+            width = max(1, int(np.prod(tail)))
+            rows = max(1, min(1024, BUFFER_VALUES // width))
+            chunk = (ds.chunks[0], int(np.prod(ds.chunks)) * ds.dtype.itemsize)
+            self.series[name] = (ds.id, tail, chunk)
+            self.buffers[name] = np.empty((rows,) + tail, dtype=ds.dtype)
+            self.capacity = min(rows, self.capacity or rows)
+
+    def append(self, row):
+        """Buffer one kept row; ``row`` maps every series name to its value."""
+        if not self.series:
+            self._track()
+        i = self.pending
+        for name, buf in self.buffers.items():
+            buf[i] = row[name]
+        self.pending = i + 1
+
+    def due(self):
+        """Whether a block is due: the buffer is full or the wall-time
+        interval since the last block has passed (the caller then flushes,
+        with the snapshots of this row)."""
+        return self.pending > 0 and (self.pending == self.capacity or
+                                     time.monotonic() - self.last_flush >= self.interval)
+
+    def flush(self, snapshots=None, slab=None):
+        """Write the buffered rows and ``snapshots`` ({name: array}, state
+        at the last row, slab number ``slab``), then flush HDF5."""
+        snapshots = snapshots or {}
+        try:
+            # HDF5 allocates whole chunks, each when its first row is written
+            n, k = self.n, self.pending
+            need = MARGIN + sum(nbytes * (-(-(n + k) // rows) - (-(-n // rows)))
+                                for _, _, (rows, nbytes) in self.series.values())
+            need += sum(np.asarray(a).nbytes for a in snapshots.values())
+            self.reserve.ensure(self.f.id.get_filesize(), need + need // 20)
+        except DiskFull as exc:
+            raise OutputFailed(self._failure(exc)) from None
+        try:
+            self._write_rows()
+            self._write_snapshots(snapshots, slab)
+            self.f.flush()
+        except (OSError, RuntimeError, ValueError) as exc:
+            self.broken = True
+            raise OutputFailed(self._failure(exc)) from None
+        self.last_flush = time.monotonic()
+
+    def _failure(self, exc):
+        kept = ("nothing written yet" if self.flushed_slab is None else
+                f"the file keeps every slab up to slab {self.flushed_slab}")
+        return f"cannot write {self.lock.path}: {_reason(exc)}; {kept}"
+
+    def _write_rows(self):
+        k, n = self.pending, self.n
+        if k == 0:
+            return
+        for name, (dsid, tail, _) in self.series.items():
+            dsid.set_extent((n + k,) + tail)
+            fspace = dsid.get_space()
+            fspace.select_hyperslab((n,) + (0,) * len(tail), (k,) + tail)
+            data = np.ascontiguousarray(self.buffers[name][:k])
+            dsid.write(h5py.h5s.create_simple(data.shape), fspace, data)
+        self.flushed_slab = int(self.buffers["solver/slab"][k - 1])
+        self.n, self.pending = n + k, 0
+
+    def _write_snapshots(self, snapshots, slab):
+        for name, data in snapshots.items():
+            if name in self.f and self.f[name].shape == np.shape(data):
+                self.f[name][...] = data
+            else:
+                if name in self.f:
+                    del self.f[name]
+                self.f.create_dataset(name, data=data)
+            self.f[name].attrs["slab"] = slab
+
+    def close(self, status, snapshots=None, slab=None, **attrs):
+        """Write what is buffered, set the status and attributes, close the
+        file, cut off the reserved tail and release the lock.  If the last
+        block cannot be written the status becomes "failed" and the error
+        is raised after the file is closed."""
+        error = None
+        if not self.broken:
+            try:
+                self.flush(snapshots, slab)
+            except OutputFailed as exc:
+                error, status, attrs = exc, "failed", {"message": str(exc)}
+        if not self.broken:
+            try:
+                self.f.attrs["status"] = status
+                for k, v in attrs.items():
+                    self.f.attrs[k] = v
+                self.f.flush()
+            except (OSError, RuntimeError, ValueError) as exc:
+                self.broken = True
+                error = error or OutputFailed(self._failure(exc))
+        _abandon(self.f, self.broken, self.lock.fd)
+        self.lock.release()
+        if error is not None:
+            raise error
+
+
+def _series_of(f):
+    """(name, dataset) of every growing dataset of an open file."""
+    found = []
+    f.visititems(lambda name, obj: found.append((name, obj))
+                 if isinstance(obj, h5py.Dataset) and obj.maxshape and obj.maxshape[0] is None
+                 else None)
+    return found
+
+
+def _header(f, series, statics, groups, attrs):
+    f.attrs["status"] = "running"
+    f.attrs["version"] = __version__
+    for k, v in attrs.items():
+        f.attrs[k] = v
+    for name, data in statics.items():
+        f.create_dataset(name, data=data)
+    for group, group_attrs in groups.items():
+        g = f.require_group(group)
+        for k, v in group_attrs.items():
+            g.attrs[k] = v
+    for name, tail in series:
         width = int(np.prod(tail)) if tail else 1
         rows = max(1, min(4096, 65536 // width))
         dtype = "i8" if name in layout.INTEGER_SERIES else "f8"
-        ds = self.f.create_dataset(
-            name, shape=(0,) + tail, maxshape=(None,) + tail, chunks=(rows,) + tail,
-            dtype=dtype)
-        self._track(name, ds)
+        f.create_dataset(name, shape=(0,) + tail, maxshape=(None,) + tail,
+                         chunks=(rows,) + tail, dtype=dtype)
+    f.require_group(layout.CONTACT)
 
-    def _track(self, name, ds):
-        # h5py's high-level resize and item assignment cost ~200 us per call;
-        # the low-level calls below, with a cached memory space, a tenth.
-        tail = ds.shape[1:]
-        self.series[name] = (ds.id, tail, ds.dtype, h5py.h5s.create_simple((1,) + tail))
 
-    @classmethod
-    def reopen(cls, path, attrs):
-        """Append to an existing result file (a restart)."""
-        self = cls.__new__(cls)
-        self.f = h5py.File(path, "a")
-        self.series = {}
-        self.f.visititems(lambda name, obj: self._track(name, obj)
-                          if isinstance(obj, h5py.Dataset) and obj.maxshape[0] is None
-                          else None)
-        self.n = self.f[layout.TIME].shape[0]
-        for k, v in attrs.items():
-            self.f.attrs[k] = v
-        self.f.attrs["status"] = "running"
-        self.f.attrs["restarts"] = int(self.f.attrs.get("restarts", 0)) + 1
-        self.f.flush()
-        return self
+def _abandon(f, broken, fd=None):
+    """Close ``f`` and cut the reserved tail off (through ``fd``) unless
+    HDF5 failed a write on it: then keep it open for good (see module)."""
+    if f is None:
+        return
+    if broken:
+        _UNCLOSABLE.append(f)
+        return
+    try:
+        end = f.id.get_filesize()
+        f.close()
+        if fd is not None:
+            os.ftruncate(fd, end)
+    except (OSError, RuntimeError, ValueError):
+        pass
 
-    def append(self, row):
-        """Append one kept time; ``row`` maps every series name to its value."""
-        n = self.n + 1
-        for name, (dsid, tail, dtype, mspace) in self.series.items():
-            dsid.set_extent((n,) + tail)
-            fspace = dsid.get_space()
-            fspace.select_hyperslab((n - 1,) + (0,) * len(tail), (1,) + tail)
-            data = np.ascontiguousarray(row[name], dtype=dtype).reshape((1,) + tail)
-            dsid.write(mspace, fspace, data)
-        self.n = n
-        self.f.flush()
 
-    def save_rhs_state(self, b, slab):
-        """Keep the running right-hand side after ``slab`` (for a bit-for-bit
-        restart); replaces the one kept before."""
-        if layout.RHS_STATE in self.f:
-            del self.f[layout.RHS_STATE]
-        ds = self.f.create_dataset(layout.RHS_STATE, data=b)
-        ds.attrs["slab"] = slab
-
-    def close(self, status, **attrs):
-        self.f.attrs["status"] = status
-        for k, v in attrs.items():
-            self.f.attrs[k] = v
-        self.f.flush()
-        self.f.close()
+def _reason(exc):
+    """The short reason of an OS or HDF5 error (HDF5 puts the system's
+    message inside its own)."""
+    text = str(exc)
+    found = re.search(r"error message = '([^']+)'", text)
+    if found:
+        return found.group(1)
+    if isinstance(exc, DiskFull):
+        return f"disk full: {exc.strerror}"
+    text = getattr(exc, "strerror", None) or text
+    return text.split("(")[0].strip() or type(exc).__name__
