@@ -47,7 +47,10 @@ class Case:
     """
 
     def __init__(self, doc, text=None, source="<dict>", folder=None):
-        self.doc = _plain(doc)
+        try:
+            self.doc = _plain(doc)
+        except RecursionError:
+            raise CaseError([f"{source}: nested too deeply"]) from None
         if not isinstance(self.doc, dict):
             raise CaseError([f"{source}: a case is a table (dict), got {type(doc).__name__}"])
         for key, value in schema.read(self.doc).items():
@@ -78,6 +81,8 @@ class Case:
             doc = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
             raise CaseError([f"{source}: TOML syntax error: {exc}"]) from None
+        except RecursionError:
+            raise CaseError([f"{source}: TOML nested too deeply"]) from None
         return cls(doc, text=text, source=source, folder=folder)
 
     @classmethod

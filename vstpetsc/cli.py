@@ -16,6 +16,7 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
        vstpetsc --version"""
 
 EXIT_BAD_INPUT = 2
+MAX_LINES = 50          # problems printed at most
 EXIT_SOLVE_FAILED = 3
 # our options that take a value; every other single-dash option is PETSc's
 VALUED = ("-o", "--output", "--every", "--restart")
@@ -123,7 +124,10 @@ def _command(command, rest):
     try:
         return command(rest)
     except CaseError as exc:
-        return _fail(exc.problems, EXIT_BAD_INPUT)
+        shown = exc.problems[:MAX_LINES]
+        more = len(exc.problems) - len(shown)
+        return _fail(shown + ([f"... and {more} more problems"] if more else []),
+                     EXIT_BAD_INPUT)
     except (UsageError, InputError) as exc:
         return _fail([str(exc)], EXIT_BAD_INPUT)
     except Interrupted as exc:

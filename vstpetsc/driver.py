@@ -12,7 +12,7 @@ from vstpetsc import model as model_mod
 from vstpetsc.errors import InputError, Interrupted, SolveFailed
 from vstpetsc.loading import SlabLoads
 from vstpetsc.results import layout
-from vstpetsc.results.files import path_problem, same_file
+from vstpetsc.results.files import foreign, path_problem, same_file
 from vstpetsc.results.reader import Result
 
 
@@ -90,6 +90,9 @@ def check_output(case, output):
         if same_file(output, source):
             raise InputError(f"output: {output} is the case's input file {source}; "
                              "choose another result file")
+    if foreign(output):
+        raise InputError(f"output: {output} exists and is not a vstpetsc result file; "
+                         "remove it or choose another result file")
 
 
 class TimeLoop:
@@ -138,13 +141,14 @@ class TimeLoop:
         self.solver.set_state(u, v)
         if rhs is not None:
             self.solver.set_rhs_state(rhs)
-        self._open_writer(restart, petsc_options, u, v)
         if self.talk:
             self.out.write(header(case, model, self.output, self.solver, self.comm.getSize()))
             if restart:
                 self.out.write(f"  restart from slab {k0} (t = {k0 * case.dt:g})\n")
             self.out.flush()
-        energy1 = self._loop(k0)
+        with StopSignals() as stop:     # from the first byte written: stop after a slab
+            self._open_writer(restart, petsc_options, u, v)
+            energy1 = self._loop(k0, stop)
         self._close("completed", case.nslabs, snapshot=True,
                     wall_time=time.perf_counter() - self.start, setup_time=self.setup_time)
         return RunInfo(case.nslabs - k0, time.perf_counter() - self.start, energy0,
@@ -196,30 +200,29 @@ class TimeLoop:
         if error:
             raise InputError(error)
 
-    def _loop(self, k0):
+    def _loop(self, k0, stop):
         """Slabs k0+1 .. n; the energy of the last kept row (None if none)."""
         case, solver = self.case, self.solver
         n, dt = case.nslabs, case.dt
         progress = Progress(n - k0, self.err if self.talk else None)
         energy1, k = None, k0
-        with StopSignals() as stop:
-            try:
-                for k in range(k0 + 1, n + 1):
-                    t0, t1 = (k - 1) * dt, k * dt
-                    solver.rhs(*self.loads(t0, t1))
-                    its = solver.solve(k)
-                    solver.laws.finish_slab(t0, dt)
-                    solver.advance()
-                    signum = self.space.max_over_ranks(stop.signum)
-                    if k % case.every == 0 or k == n or signum:
-                        energy1 = self._record(k, its)
-                    progress.update(k - k0, t1, force=k == n)
-                    if signum:
-                        raise Interrupted(signum, f"stopped by {signal.Signals(signum).name} "
-                                          f"after slab {k} (t = {t1:g}); continue with --restart")
-            except Exception as exc:
-                progress.done()
-                self._stop(exc, k)
+        try:
+            for k in range(k0 + 1, n + 1):
+                t0, t1 = (k - 1) * dt, k * dt
+                solver.rhs(*self.loads(t0, t1))
+                its = solver.solve(k)
+                solver.laws.finish_slab(t0, dt)
+                solver.advance()
+                signum = self.space.max_over_ranks(stop.signum)
+                if k % case.every == 0 or k == n or signum:
+                    energy1 = self._record(k, its)
+                progress.update(k - k0, t1, force=k == n)
+                if signum:
+                    raise Interrupted(signum, f"stopped by {signal.Signals(signum).name} "
+                                      f"after slab {k} (t = {t1:g}); continue with --restart")
+        except Exception as exc:
+            progress.done()
+            self._stop(exc, k)
         progress.done()
         return energy1
 
@@ -273,7 +276,10 @@ class TimeLoop:
             self._close("interrupted" if interrupted else "failed", k if interrupted else k - 1,
                         snapshot=interrupted, message=str(exc))
         except SolveFailed as failed:          # the file cannot be written either
-            raise failed from None
+            exc = failed
+        # mpirun ends the job as soon as one rank exits with an error:
+        # no rank leaves before rank 0 has closed the file
+        self.comm.barrier()
         raise exc from None
 
 
@@ -364,9 +370,12 @@ class Progress:
 
 
 class StopSignals:
-    """Turns SIGTERM and SIGINT into a flag that the time loop reads after
-    each slab (the slab in progress is finished and written).  Handlers are
-    installed only where Python allows it (the main thread)."""
+    """Turns SIGTERM, SIGINT and SIGUSR1 into a flag that the time loop reads
+    after each slab (the slab in progress is finished and written).  Under
+    mpirun, SIGUSR1 is the signal to use: Open MPI forwards it to every rank,
+    while it answers SIGTERM itself (exit status 1, SIGKILL to the ranks one
+    second later).  Handlers are installed only where Python allows it (the
+    main thread)."""
 
     def __init__(self):
         self.signum = 0
@@ -374,7 +383,7 @@ class StopSignals:
     def __enter__(self):
         self.previous = {}
         if threading.current_thread() is threading.main_thread():
-            for sig in (signal.SIGTERM, signal.SIGINT):
+            for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGUSR1):
                 self.previous[sig] = signal.signal(sig, self._catch)
         return self
 

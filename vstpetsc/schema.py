@@ -20,6 +20,7 @@ TOP = ("time", "output", "body", "contact", "bc", "units")
 BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0")
 MAX_SLABS = 1e12          # beyond any run; guards int() and memory against typos
 MAX_ELEMENTS = 10**8      # per body
+DT_RANGE = (1e-150, 1e150)  # dt^2 must neither underflow nor overflow
 
 
 @dataclass
@@ -76,6 +77,10 @@ def read(doc):
 def read_time(chk, tm):
     chk.unknown(tm, ("dt", "end"), "time")
     dt = chk.number(tm, "dt", "time", positive=True)
+    if dt is not None and not DT_RANGE[0] <= dt <= DT_RANGE[1]:
+        chk.add("time.dt", f"must lie in [{DT_RANGE[0]:g}, {DT_RANGE[1]:g}] (dt^2 enters "
+                f"the slab matrix and must be a normal double), got {dt:g}")
+        dt = None
     end = chk.number(tm, "end", "time", positive=True)
     nslabs = None
     if dt is not None and end is not None:
@@ -201,8 +206,27 @@ def read_contacts(chk, tables, bodies, names):
                     f"already in contact[{other}]")
             continue
         ends_used.update({e: i for e in ends if e[0] is not None})
+        if _penetrates(chk, where, bodies, left, right, wall):
+            continue
         contacts.append(ContactSpec(left, right, form, params, wall))
     return contacts
+
+
+def _penetrates(chk, where, bodies, left, right, wall):
+    """Whether the bodies' initial displacements u0 close the pair's gap
+    below zero (reported); rounding of 1e-12 of the bodies' length is let
+    pass."""
+    ends = [(bodies[left], 1, 1.0)] if left is not None else []
+    ends += [(bodies[right], 0, -1.0)] if right is not None else []
+    gap = (bodies[right].x[0] if right is not None else wall) - \
+        (bodies[left].x[1] if left is not None else wall)
+    shut = sum(sign * float(body.u0(body.x[side])) for body, side, sign in ends)
+    scale = max(body.x[1] - body.x[0] for body, _, _ in ends)
+    if gap - shut >= -1e-12 * scale:
+        return False
+    chk.add(f"{where}.pair", f"the initial displacements (u0) make the bodies overlap by "
+            f"{shut - gap:g} (the initial gap must be >= 0)")
+    return True
 
 
 def _pair(chk, tbl, where, bodies, names):

@@ -14,10 +14,14 @@ def message(exc):
 
 def setup_error(exc):
     """An InputError for a solver that cannot be set up with the given
-    options; other exceptions are not PETSc's to explain (None)."""
+    options (nothing is written yet); other exceptions are not PETSc's to
+    explain (None)."""
     if isinstance(exc, PETSc.Error):
         return InputError("PETSc could not set up the solver with these options "
                           f"(error {exc.ierr}: {message(exc)})")
+    if isinstance(exc, SolveFailed):
+        return InputError(f"solver set-up: {exc}; the linear solver options cannot "
+                          "solve the slab matrix (nothing was written)")
     return exc if isinstance(exc, InputError) else None
 
 

@@ -60,7 +60,8 @@ class LinearSolver:
         self.ksp.solve(b, x)
         reason = self.ksp.getConvergedReason()
         if reason < 0:
-            where = f"slab {slab_index}: " if slab_index is not None else ""
+            where = f"slab {slab_index}: " if slab_index is not None else \
+                "solving for the laws' dofs (Z = A^-1 E): "
             raise SolveFailed(f"{where}linear solve did not converge "
                               f"({reason_name(PETSc.KSP.ConvergedReason, reason)})")
         self.count += max(1, self.ksp.getIterationNumber())

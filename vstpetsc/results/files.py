@@ -45,6 +45,19 @@ def path_problem(path):
     return None
 
 
+def foreign(path):
+    """Whether ``path`` is an existing file that is not a vstpetsc result
+    (a run must not overwrite it)."""
+    if not os.path.exists(path):
+        return False
+    import h5py
+    try:
+        with h5py.File(path, "r", locking=False) as f:
+            return "case" not in f.attrs or "solver" not in f
+    except (OSError, ValueError):
+        return True
+
+
 def same_file(a, b):
     """Whether paths ``a`` and ``b`` name the same existing file."""
     try:
@@ -182,6 +195,21 @@ class DiskReserve:
         if st.f_bavail * st.f_frsize < nbytes:
             raise DiskFull(errno.ENOSPC, f"no space for {nbytes / 2**20:.1f} MB more "
                            f"({st.f_bavail * st.f_frsize / 2**20:.1f} MB free)")
+
+
+def held(path):
+    """Whether a live process holds the lock of the result file ``path``."""
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        return False
+    except OSError:
+        return True
+    finally:
+        os.close(fd)
 
 
 def _alive(pid):

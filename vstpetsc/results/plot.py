@@ -71,7 +71,7 @@ def velocity_map(fig, ax, r, u, max_rows):
     fig.colorbar(mesh, ax=ax, label=f"velocity [{u['velocity']}]")
     ax.set_xlabel(f"x [{u['length']}] (reference position)")
     ax.set_ylabel(f"t [{u['time']}]")
-    ax.set_title(f"(a) velocity over space and time ({text(r.attrs.get('status', ''))})")
+    ax.set_title(f"(a) velocity over space and time ({r.status})")
 
 
 def contact_panel(ax, r, u):

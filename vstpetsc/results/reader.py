@@ -7,6 +7,7 @@ import h5py
 
 from vstpetsc.errors import InputError
 from vstpetsc.results import layout
+from vstpetsc.results.files import held
 
 
 def text(value):
@@ -83,8 +84,14 @@ class Result:
 
     @property
     def status(self):
-        """"running", "completed", "failed" or "interrupted"."""
-        return self.attrs.get("status", "?")
+        """"running", "completed", "failed" or "interrupted"; "killed" for a
+        file left "running" that no process writes any more (the run was
+        killed: it holds every block written before; --restart continues
+        it)."""
+        status = self.attrs.get("status", "?")
+        if status == "running" and not held(self.path):
+            return "killed"
+        return status
 
     @property
     def time(self):

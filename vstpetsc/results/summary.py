@@ -43,7 +43,7 @@ def summarize(result):
     newton = result.solver["newton_iterations"][1:]
     linear = result.solver["linear_iterations"][1:]
     return {
-        "status": text(a.get("status", "?")), "version": text(a.get("version", "?")),
+        "status": result.status, "version": text(a.get("version", "?")),
         "message": text(a.get("message", "")), "formulation": text(a.get("formulation", "")),
         "solver": text(a.get("solver", "")), "mpi_size": int(a.get("mpi_size", 1)),
         "dt": dt, "every": every, "slabs": int(a.get("slabs", 0)),

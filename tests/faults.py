@@ -1,0 +1,160 @@
+"""Fault scenarios for the reliability catalogue: tests/test_reliability.py
+runs each once (the suite), bench/soak.py many times (`make soak`).
+
+Every scenario returns (held, detail): held is True when vstpetsc behaved
+as docs/troubleshooting.md says, detail says what happened.
+"""
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+import vstpetsc
+import vstpetsc.toml_text
+
+VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
+MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1",
+               OMPI_MCA_btl_vader_single_copy_mechanism="none")
+COMPARED = ("body/a/u", "body/a/v", "body/b/u", "body/b/v", "contact/0/impulse_total",
+            "contact/0/episodes", "energy/kinetic")
+
+
+def long_case(every=3, end=4.0):
+    """Two bars in contact, the far end fixed: a few seconds of slabs."""
+    bar = lambda name, x, **kw: {"name": name, "x": x, "elements": 300, "E": 1.0, "rho": 1.0,
+                                 **kw}
+    return vstpetsc.Case.from_dict({
+        "time": {"dt": 0.002, "end": end}, "output": {"every": every},
+        "body": [bar("a", [0.0, 1.0], v0=1.0), bar("b", [1.05, 2.05], E=2.0)],
+        "contact": [{"pair": ["a", "b"], "formulation": "power"}],
+        "bc": [{"body": "b", "end": "right", "type": "fixed"}]})
+
+
+def cli(*args, timeout=300, env=None):
+    return subprocess.run([VSTPETSC, *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout, env=env)
+
+
+def start(case, out, *args, mpi=0):
+    command = ([VSTPETSC] if not mpi else ["mpirun", "-n", str(mpi), VSTPETSC])
+    return subprocess.Popen(command + ["run", str(case), "-o", str(out), "--quiet", *args],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=MPI_ENV if mpi else None)
+
+
+def wait_for(path, proc, timeout=60):
+    """Wait until ``path`` exists (False if the run ended first)."""
+    t0 = time.time()
+    while not os.path.exists(path):
+        if proc.poll() is not None or time.time() - t0 > timeout:
+            return False
+        time.sleep(0.002)
+    return True
+
+
+def one_clean_line(stderr):
+    lines = stderr.strip().splitlines()
+    return len(lines) == 1 and "Traceback" not in stderr and lines[0].startswith("vstpetsc:")
+
+
+def readable(out):
+    """(ok, detail): info, plot and the Result reader take the file."""
+    p = cli("info", out)
+    if p.returncode != 0:
+        return False, f"info: {p.stderr.strip()}"
+    p = cli("plot", out, "-o", str(out) + ".png")
+    if p.returncode != 0:
+        return False, f"plot: {p.stderr.strip()}"
+    r = vstpetsc.Result(out)
+    if r.time.size < 1 or r.body("a").u.shape[0] != r.time.size:
+        return False, f"{r.time.size} times, u has {r.body('a').u.shape[0]} rows"
+    return True, f"{r.time.size} rows, status {r.status}"
+
+
+def same_end(out, reference):
+    """Whether the last rows of two result files are equal bit for bit."""
+    with h5py.File(out, "r", locking=False) as a, h5py.File(reference, "r", locking=False) as b:
+        if a["time"][-1] != b["time"][-1]:
+            return False
+        return all(np.array_equal(a[key][-1], b[key][-1]) for key in COMPARED)
+
+
+def kill_and_restart(folder, case, reference, delay, sig=signal.SIGKILL, extra=()):
+    """Stop a run ``delay`` seconds after its file appeared, then check the
+    file and continue it; held if the restart ends equal to ``reference``."""
+    out = os.path.join(folder, f"killed-{sig}-{delay:.3f}.h5")
+    proc = start(case, out, "-vst_flush_interval", "0.1", *extra)
+    appeared = wait_for(out, proc)
+    time.sleep(delay)
+    proc.send_signal(sig)
+    _, stderr = proc.communicate(timeout=60)
+    if not appeared and not os.path.exists(out):
+        return True, "killed before the file had its name (nothing to check)"
+    ok, detail = readable(out)
+    if not ok:
+        return False, detail
+    if sig != signal.SIGKILL and proc.returncode not in (0, 128 + sig):
+        return False, f"exit {proc.returncode}: {stderr.strip()}"
+    p = cli("run", case, "--restart", out, "--quiet")
+    if vstpetsc.Result(out).status == "completed" and p.returncode == 2:
+        pass                                  # it had finished before the signal
+    elif p.returncode != 0:
+        return False, f"restart exit {p.returncode}: {p.stderr.strip()}"
+    if not same_end(out, reference):
+        return False, "restarted run differs from the uninterrupted one"
+    return True, f"{detail}; restart equal bit for bit"
+
+
+def concurrent_runs(folder, case, reference):
+    """A second run (new, then --restart) on a file being written."""
+    out = os.path.join(folder, "busy.h5")
+    first = start(case, out)
+    if not wait_for(out, first):
+        return False, "the first run did not start"
+    second = cli("run", case, "-o", out, "--quiet")
+    third = cli("run", case, "--restart", out, "--quiet")
+    _, stderr = first.communicate(timeout=300)
+    if first.returncode != 0:
+        return False, f"first run: exit {first.returncode}: {stderr.strip()}"
+    for name, p in (("second run", second), ("restart", third)):
+        if p.returncode != 2 or not one_clean_line(p.stderr) or "another run" not in p.stderr:
+            return False, f"{name}: exit {p.returncode}: {p.stderr.strip()}"
+    if vstpetsc.Result(out).status != "completed" or not same_end(out, reference):
+        return False, "the first run's file is not the uninterrupted result"
+    return True, "second run and restart refused (exit 2); first file intact"
+
+
+def disk_full(folder, case, reference, size_kb):
+    """The run on a tmpfs of ``size_kb``: exit 3 with one line, the file
+    readable and failed; moved to a big disk it continues bit for bit."""
+    mount = os.path.join(folder, f"disk{size_kb}")
+    os.makedirs(mount, exist_ok=True)
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size_kb}k", "tmpfs", mount],
+                      capture_output=True).returncode != 0:
+        return None, "cannot mount a tmpfs (not root?)"
+    try:
+        out = os.path.join(mount, "r.h5")
+        p = cli("run", case, "-o", out, "--quiet", "-vst_flush_interval", "0.05")
+        if p.returncode == 2 and "cannot create" in p.stderr and not os.path.exists(out):
+            return one_clean_line(p.stderr), "too small for the first row: exit 2, no file"
+        if p.returncode != 3 or not one_clean_line(p.stderr) or "disk full" not in p.stderr:
+            return False, f"exit {p.returncode}: {p.stderr.strip()}"
+        ok, detail = readable(out)
+        status = vstpetsc.Result(out).status
+        if not ok or status != "failed":
+            return False, f"{detail}, status {status}"
+        moved = os.path.join(folder, f"moved{size_kb}.h5")
+        shutil.copy(out, moved)
+    finally:
+        subprocess.run(["umount", mount], capture_output=True)
+    p = cli("run", case, "--restart", moved, "--quiet")
+    if p.returncode != 0 or not same_end(moved, reference):
+        return False, f"{detail}; moved and restarted: exit {p.returncode} {p.stderr.strip()}"
+    return True, f"{detail}; moved to a big disk, restart equal bit for bit"
