@@ -17,7 +17,7 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
 export MPLBACKEND := agg
 
-.PHONY: install demo test bench bench-quick bench-parallel clean formulations figures
+.PHONY: install demo test bench bench-quick bench-parallel soak clean formulations figures
 
 install: $(STAMP)
 
@@ -58,3 +58,7 @@ bench-quick: install
 
 bench-parallel: install
 	$(PY) bench/parallel_solvers.py
+
+# The reliability catalogue many times over (random kills, signals, full disks).
+soak: install
+	$(PY) bench/soak.py

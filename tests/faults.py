@@ -17,6 +17,7 @@ import numpy as np
 
 import vstpetsc
 import vstpetsc.toml_text
+from vstpetsc.results.files import held
 
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
@@ -116,8 +117,11 @@ def concurrent_runs(folder, case, reference):
     """A second run (new, then --restart) on a file being written."""
     out = os.path.join(folder, "busy.h5")
     first = start(case, out)
-    if not wait_for(out, first):
-        return False, "the first run did not start"
+    t0 = time.time()
+    while not held(out):             # the first run has taken the file
+        if first.poll() is not None or time.time() - t0 > 60:
+            return False, "the first run did not start"
+        time.sleep(0.002)
     second = cli("run", case, "-o", out, "--quiet")
     third = cli("run", case, "--restart", out, "--quiet")
     _, stderr = first.communicate(timeout=300)
@@ -129,6 +133,23 @@ def concurrent_runs(folder, case, reference):
     if vstpetsc.Result(out).status != "completed" or not same_end(out, reference):
         return False, "the first run's file is not the uninterrupted result"
     return True, "second run and restart refused (exit 2); first file intact"
+
+
+def simultaneous_runs(folder, case, reference):
+    """Two runs on one new file started at the same moment: one writes it,
+    the other stops with one line; the file is the uninterrupted result."""
+    out = os.path.join(folder, f"same-{time.monotonic_ns()}.h5")
+    runs = [start(case, out), start(case, out)]
+    results = [(p.returncode, err) for p in runs for _, err in [p.communicate(timeout=300)]]
+    codes = sorted(code for code, _ in results)
+    if codes != [0, 2]:
+        return False, f"exit statuses {codes}: {[err.strip()[-200:] for _, err in results]}"
+    loser = [err for code, err in results if code == 2][0]
+    if not one_clean_line(loser) or "another run" not in loser:
+        return False, f"the refused run said: {loser.strip()}"
+    if not same_end(out, reference):
+        return False, "the file is not the uninterrupted result"
+    return True, "one ran, the other stopped with exit 2; the file is intact"
 
 
 def disk_full(folder, case, reference, size_kb):

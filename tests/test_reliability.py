@@ -62,6 +62,11 @@ def test_concurrent_runs_on_one_file(long):
     assert held, detail
 
 
+def test_two_runs_started_together(long):
+    held, detail = faults.simultaneous_runs(*long)
+    assert held, detail
+
+
 @pytest.mark.skipif(os.geteuid() != 0, reason="mounting a small tmpfs needs root")
 def test_disk_full(long):
     held, detail = faults.disk_full(*long, size_kb=2500)

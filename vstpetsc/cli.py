@@ -143,7 +143,7 @@ def _command(command, rest):
 
 def _run(rest):
     from vstpetsc.case import Case
-    from vstpetsc.paths import output_problem
+    from vstpetsc.results.files import path_problem as output_problem
 
     ours, petsc_args = split_args(rest)
     opts = parse_options(ours, ["case"], FLAGS, VALUED)
@@ -205,7 +205,7 @@ def _solve(case, out_path, petsc_args, opts):
 
 def _example(rest):
     from vstpetsc import bundled
-    from vstpetsc.paths import output_problem
+    from vstpetsc.results.files import path_problem as output_problem
 
     opts = parse_options(rest, ["name"])
     if opts["name"] is None:
@@ -250,7 +250,7 @@ def _info(rest):
 
 
 def _plot(rest):
-    from vstpetsc.paths import output_problem
+    from vstpetsc.results.files import path_problem as output_problem
 
     opts = parse_options(rest, ["result"])
     result = _result(opts, "plot")

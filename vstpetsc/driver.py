@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from vstpetsc import model as model_mod
 from vstpetsc.errors import InputError, Interrupted, SolveFailed
 from vstpetsc.loading import SlabLoads
+from vstpetsc.recorder import Recorder, load_restart
 from vstpetsc.results import layout
 from vstpetsc.results.files import foreign, path_problem, same_file
 from vstpetsc.results.reader import Result
@@ -96,7 +97,7 @@ def check_output(case, output):
 
 
 class TimeLoop:
-    """One run: the model, its solver, the writer and the loop over slabs."""
+    """One run: the model, its solver, its recorder and the loop over slabs."""
 
     def __init__(self, case, output, comm, quiet, out, err):
         from vstpetsc.petsc.failures import setup_error
@@ -104,14 +105,13 @@ class TimeLoop:
         from vstpetsc.petsc.slab_solver import SlabSolver
 
         self.case, self.output, self.comm = case, output, comm
-        self.rank0 = comm.getRank() == 0
-        self.talk = self.rank0 and not quiet
+        self.talk = comm.getRank() == 0 and not quiet
         self.out, self.err = out, err
         self.model = model_mod.build_model(case)
         self.start = time.perf_counter()
-        self.options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
+        options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
         try:
-            self.solver = SlabSolver(self.model, case.dt, comm, self.options)
+            self.solver = SlabSolver(self.model, case.dt, comm, options)
         except Exception as exc:
             error = setup_error(exc)
             if error is None:
@@ -120,20 +120,18 @@ class TimeLoop:
         self.setup_time = time.perf_counter() - self.start
         self.space = self.solver.space
         self.loads = SlabLoads(self.model.laws)
-        self.writer = None
+        self.recorder = Recorder(output, self.model, self.solver, comm, options.flush_interval)
 
     def execute(self, restart, petsc_options):
         """Solve every slab; return a RunInfo."""
         case, model = self.case, self.model
         if restart:
-            lock = self._lock_existing()
+            self.recorder.lock_existing()
             try:
                 k0, u, v, energy0, rhs = load_restart(self.output, case, model)
             except InputError:
-                if lock:
-                    lock.release()
+                self.recorder.release()
                 raise
-            self.lock = lock
         else:
             k0, rhs = 0, None
             u, v = model_mod.initial_state(model)
@@ -147,58 +145,22 @@ class TimeLoop:
                 self.out.write(f"  restart from slab {k0} (t = {k0 * case.dt:g})\n")
             self.out.flush()
         with StopSignals() as stop:     # from the first byte written: stop after a slab
-            self._open_writer(restart, petsc_options, u, v)
+            self.recorder.open(restart, self._attrs(petsc_options), u, v)
             energy1 = self._loop(k0, stop)
-        self._close("completed", case.nslabs, snapshot=True,
-                    wall_time=time.perf_counter() - self.start, setup_time=self.setup_time)
+        self.recorder.close("completed", case.nslabs, snapshot=True,
+                            wall_time=time.perf_counter() - self.start,
+                            setup_time=self.setup_time)
         return RunInfo(case.nslabs - k0, time.perf_counter() - self.start, energy0,
                        energy0 if energy1 is None else energy1)
 
-    def _lock_existing(self):
-        """Rank 0 locks the file to continue (None elsewhere); a busy file
-        stops every rank before anything is read or written."""
-        from vstpetsc.results.files import OutputLock
-
-        lock, error = None, None
-        if self.rank0:
-            try:
-                lock = OutputLock(self.output)
-                lock.existing()
-            except InputError as exc:
-                error, lock = str(exc), None
-            except OSError as exc:
-                error, lock = f"--restart: cannot open {self.output} ({exc.strerror})", None
-        error = self.space.from_rank0(error)
-        if error:
-            raise InputError(error)
-        return lock
-
-    def _open_writer(self, restart, petsc_options, u, v):
-        """The writer on rank 0; its verdict (e.g. a busy file) on every rank."""
-        from vstpetsc.results.writer import ResultWriter
-
-        case, model = self.case, self.model
-        error = None
-        if self.rank0:
-            attrs = {"case": case.text, "petsc_options": petsc_options,
-                     "mpi_size": self.comm.getSize(), "formulation": layout.formulation(model),
-                     "dt": case.dt, "slabs": case.nslabs, "every": case.every,
-                     **{f"unit_{k}": v for k, v in case.units.items()},
-                     "solver": self.solver.describe()}
-            interval = self.options.flush_interval
-            try:
-                if restart:
-                    self.writer = ResultWriter.reopen(self.lock, attrs, interval)
-                else:
-                    first = layout.row(model, 0, case.dt, u, v, (0, 0), 0.0)
-                    self.writer = ResultWriter.create(
-                        self.output, layout.series(model), layout.statics(model),
-                        layout.group_attrs(model), attrs, first, interval)
-            except InputError as exc:
-                error = str(exc)
-        error = self.space.from_rank0(error)
-        if error:
-            raise InputError(error)
+    def _attrs(self, petsc_options):
+        """The root attributes of the result file."""
+        case = self.case
+        return {"case": case.text, "petsc_options": petsc_options,
+                "mpi_size": self.comm.getSize(), "formulation": layout.formulation(self.model),
+                "dt": case.dt, "slabs": case.nslabs, "every": case.every,
+                **{f"unit_{k}": v for k, v in case.units.items()},
+                "solver": self.solver.describe()}
 
     def _loop(self, k0, stop):
         """Slabs k0+1 .. n; the energy of the last kept row (None if none)."""
@@ -215,7 +177,7 @@ class TimeLoop:
                 solver.advance()
                 signum = self.space.max_over_ranks(stop.signum)
                 if k % case.every == 0 or k == n or signum:
-                    energy1 = self._record(k, its)
+                    energy1 = self.recorder.record(k, its)
                 progress.update(k - k0, t1, force=k == n)
                 if signum:
                     raise Interrupted(signum, f"stopped by {signal.Signals(signum).name} "
@@ -225,43 +187,6 @@ class TimeLoop:
             self._stop(exc, k)
         progress.done()
         return energy1
-
-    def _record(self, k, its):
-        """Keep slab k: its row on rank 0, a block to the file when due."""
-        state = self.solver.gather_state()
-        energy = None
-        if self.rank0:
-            u, v = state
-            row = layout.row(self.model, k, self.case.dt, u, v, its,
-                             time.perf_counter() - self.start)
-            self.writer.append(row)
-            energy = row["energy/kinetic"] + row["energy/strain"]
-        if self.space.max_over_ranks(int(self.rank0 and self.writer.due())):
-            self._flush(k)
-        return energy
-
-    def _flush(self, k):
-        """Write the buffered rows with the restart state of slab k."""
-        from vstpetsc.results.writer import OutputFailed
-
-        rhs = self.solver.rhs_state()          # collective
-        error = None
-        if self.rank0:
-            try:
-                self.writer.flush({layout.RHS_STATE: rhs}, k)
-            except OutputFailed as exc:
-                error = str(exc)
-        error = self.space.from_rank0(error)
-        if error:
-            raise OutputFailed(error)
-
-    def _close(self, status, slab, snapshot, **attrs):
-        """Close the file on rank 0 (collective when ``snapshot``)."""
-        rhs = self.solver.rhs_state() if snapshot else None
-        if self.writer:
-            writer, self.writer = self.writer, None
-            writer.close(status, {layout.RHS_STATE: rhs} if snapshot else None, slab,
-                         slabs_done=slab, **attrs)
 
     def _stop(self, exc, k):
         """End a run that stopped inside the loop: close the file with the
@@ -273,50 +198,15 @@ class TimeLoop:
             raise exc
         interrupted = isinstance(exc, Interrupted)
         try:
-            self._close("interrupted" if interrupted else "failed", k if interrupted else k - 1,
-                        snapshot=interrupted, message=str(exc))
+            self.recorder.close("interrupted" if interrupted else "failed",
+                                k if interrupted else k - 1, snapshot=interrupted,
+                                message=str(exc))
         except SolveFailed as failed:          # the file cannot be written either
             exc = failed
         # mpirun ends the job as soon as one rank exits with an error:
         # no rank leaves before rank 0 has closed the file
         self.comm.barrier()
         raise exc from None
-
-
-def load_restart(path, case, model):
-    """(slab, u, v, initial energy, running right-hand side or None) of the
-    last row of result file ``path``, after checking that it continues
-    ``case``; its laws take their running totals back."""
-    import h5py
-
-    from vstpetsc.case import Case
-
-    try:
-        f = h5py.File(path, "r", locking=False)
-    except OSError:
-        raise InputError(f"--restart: cannot open {path} as an HDF5 file") from None
-    with f:
-        if "solver/slab" not in f or "case" not in f.attrs:
-            raise InputError(f"--restart: {path} has no restart data (not a vstpetsc result)")
-        if Case.from_text(f.attrs["case"]).restart_key() != case.restart_key():
-            raise InputError(f"--restart: the case differs from the one stored in {path} "
-                             "in more than time.end (and output.path)")
-        if int(f.attrs.get("every", 1)) != case.every:
-            raise InputError(f"--restart: {path} keeps every {int(f.attrs['every'])} slabs; "
-                             f"continuing with every {case.every} would mix two samplings "
-                             f"(give --every {int(f.attrs['every'])})")
-        k0, u, v, values = layout.last_state(f, model)
-        if k0 >= case.nslabs:
-            raise InputError(f"--restart: {path} already reaches slab {k0} (t = "
-                             f"{f['time'][-1]:g}); raise time.end to continue it")
-        for law in model.recorded:
-            law.restore(values[law.group])
-        energy0 = float(f["energy/kinetic"][0] + f["energy/strain"][0])
-        rhs = f.get(layout.RHS_STATE)
-        # kept when the run stopped cleanly; after a failure or a kill the
-        # solver starts again from (u, v), equal up to rounding
-        rhs = rhs[...] if rhs is not None and int(rhs.attrs["slab"]) == k0 else None
-    return k0, u, v, energy0, rhs
 
 
 def header(case, model, output, solver, size):

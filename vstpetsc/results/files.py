@@ -121,16 +121,14 @@ class OutputLock:
         return self.temp
 
     def publish(self, fd):
-        """Lock the temporary file (open as ``fd``) and give it the final
-        name, if nobody took the target meanwhile."""
+        """Lock the temporary file (open as ``fd``, which the lock keeps
+        once published) and give it the final name, if nobody took the
+        target meanwhile."""
         self._try_lock(fd)
         folder = self._folder_lock()
         try:
             self._free()
             os.replace(self.temp, self.path)
-        except BaseException:
-            os.close(fd)
-            raise
         finally:
             os.close(folder)
         self.fd, self.temp = fd, None

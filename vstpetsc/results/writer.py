@@ -77,11 +77,14 @@ class ResultWriter:
             self.flush()
             lock.publish(fd)
         except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
-            hdf5_failed = self.broken if self is not None else not isinstance(exc, DiskFull)
+            hdf5_failed = (self.broken if self is not None else
+                           not isinstance(exc, (DiskFull, InputError)))
             _abandon(f, hdf5_failed)
             if fd is not None and lock.fd is None:
                 os.close(fd)
             lock.release()
+            if isinstance(exc, InputError):        # another run took the name
+                raise
             raise InputError(f"output: cannot create {path}: {_reason(exc)}") from None
         return self
 
