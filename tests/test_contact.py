@@ -211,7 +211,7 @@ def two_pair_solver(form, newton="condensed"):
     s = SlabSolver(model, 0.05, PETSc.COMM_SELF, SolverOptions(newton=newton))
     s.set_state(*initial_state(model))
     none = (np.zeros(0, int), np.zeros((0, 2)))
-    s.rhs(none, none)
+    s.rhs(none, none, np.zeros((0, 2)))
     return s
 
 

@@ -36,6 +36,7 @@ class Case:
     output_path : str
         ``output.path`` as given; :attr:`output_file` resolves it.
     bodies, contacts, bcs : lists of Body, ContactSpec, BoundarySpec
+    gravity : GravitySpec or None
     units : dict
         Unit names for plot labels.
     text : str
@@ -53,11 +54,11 @@ class Case:
             raise CaseError([f"{source}: nested too deeply"]) from None
         if not isinstance(self.doc, dict):
             raise CaseError([f"{source}: a case is a table (dict), got {type(doc).__name__}"])
-        for key, value in schema.read(self.doc).items():
+        self.folder = os.path.abspath(folder or os.getcwd())
+        for key, value in schema.read(self.doc, self.folder).items():
             setattr(self, key, value)
         self.text = toml_text.dumps(self.doc) if text is None else text
         self.source = source
-        self.folder = os.path.abspath(folder or os.getcwd())
 
     @classmethod
     def from_toml(cls, path):
@@ -122,9 +123,9 @@ class Case:
         return os.path.join(self.folder, os.path.expanduser(path))
 
     def inputs(self):
-        """The files the case was read from (a result must not overwrite
-        them)."""
-        return [self.source] if os.path.isfile(self.source) else []
+        """The files the case was read from: its own and the history files
+        it names (a result must not overwrite them)."""
+        return ([self.source] if os.path.isfile(self.source) else []) + list(self.input_files)
 
     def restart_key(self):
         """What must match for a restart: the case without time.end and

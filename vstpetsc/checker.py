@@ -8,17 +8,143 @@ key is reported when required and gives the default otherwise.
 import difflib
 import math
 import numbers
+import os
 
+from vstpetsc import history as hist
 from vstpetsc.history import History
 
 MISSING = object()
+RECORD_KEYS = ("file", "table", "column", "scale", "integrate")
 
 
-class Checker:
-    """Collects problems; each reader returns a usable value or None."""
+class HistoryChecks:
+    """The readers of histories and profiles (part of :class:`Checker`)."""
 
-    def __init__(self):
+    def history(self, tbl, key, where, axis, required=False, records=False):
+        """A number, a [[axis, value], ...] table with increasing axis, or
+        (``records``) a {file/table, column, scale, integrate} table; an
+        absent optional key is the constant 0."""
+        val = self.take(tbl, key, where, required)
+        if val is MISSING:
+            return None if required else History()
+        name = f"{where}.{key}"
+        if is_number(val):
+            if not math.isfinite(val):
+                self.add(name, f"must be finite, got {val}")
+                return None
+            return History(value=float(val))
+        if isinstance(val, dict) and records:
+            return self.record(val, name)
+        if not isinstance(val, list):
+            forms = "a number, a [[t, value], ...] table or {file = ...}" if records else \
+                f"a number or a [[{axis}, value], ...] table"
+            self.add(name, f"must be {forms}, got {show(val)}")
+            return None
+        rows = self.rows(val, name, axis)
+        return None if rows is None else History(rows)
+
+    def record(self, val, name):
+        """A history from {file = ..., column, scale, integrate} or
+        {table = [[t, v], ...], scale, integrate}."""
+        self.unknown(val, RECORD_KEYS, name)
+        scale = self.number(val, "scale", name, required=False, default=1.0)
+        integrate = val.get("integrate", False)
+        if not isinstance(integrate, bool):
+            self.add(f"{name}.integrate", f"must be true or false, got {show(integrate)}")
+            return None
+        if ("file" in val) == ("table" in val):
+            self.add(name, "give either file = \"...\" or table = [[t, value], ...]")
+            return None
+        samples = self._samples(val, name)
+        if samples is None or scale is None:
+            return None
+        return hist.from_samples(*samples, scale=scale, integrate=integrate)
+
+    def _samples(self, val, name):
+        """(t, values) of a record's table or file, or None."""
+        if "table" in val:
+            rows = self.rows(val["table"], f"{name}.table", "t") \
+                if isinstance(val["table"], list) else None
+            if rows is None and not isinstance(val["table"], list):
+                self.add(f"{name}.table", f"must be [[t, value], ...], got {show(val['table'])}")
+            return None if rows is None else ([r[0] for r in rows], [r[1] for r in rows])
+        path = self.string(val, "file", name)
+        column = val.get("column", 2)
+        if path is None:
+            return None
+        if isinstance(column, bool) or not isinstance(column, (str, int)):
+            self.add(f"{name}.column", f"must be a header name or a column number, got "
+                     f"{show(column)}")
+            return None
+        full = os.path.join(self.folder, os.path.expanduser(path))
+        self.inputs.append(full)
+        try:
+            if path.upper().endswith(".AT2"):
+                return hist.read_at2(full)
+            return hist.read_csv(full, column)
+        except hist.RecordError as exc:
+            self.add(f"{name}.file", str(exc))
+            return None
+
+    def profile(self, tbl, key, where, default=None):
+        """A positive number or a [[x, value], ...] table along the body
+        (x non-decreasing; a repeated x marks a step); a History."""
+        val = self.take(tbl, key, where, default is None, default)
+        if val is MISSING:
+            return None
+        name = f"{where}.{key}"
+        if is_number(val):
+            if not math.isfinite(val):
+                self.add(name, f"must be finite, got {val}")
+            elif val <= 0:
+                self.add(name, f"must be positive, got {val:g}")
+            else:
+                return History(value=float(val))
+            return None
+        if not isinstance(val, list):
+            self.add(name, f"must be a number or a [[x, value], ...] table, got {show(val)}")
+            return None
+        rows = self.rows(val, name, "x", steps=True)
+        if rows is not None and min(r[1] for r in rows) <= 0:
+            self.add(name, "values must be positive")
+            return None
+        return None if rows is None else History(rows)
+
+    def rows(self, val, name, axis, steps=False):
+        """Rows [[axis, value], ...] with a strictly increasing axis (with
+        ``steps``: non-decreasing, an axis value at most twice), or None."""
+        if len(val) < 2:
+            self.add(name, f"a table needs at least two [{axis}, value] rows, got {len(val)}")
+            return None
+        for i, row in enumerate(val):
+            if not isinstance(row, list) or len(row) != 2 or not all(map(is_number, row)):
+                self.add(name, f"row {i} must be a pair of numbers [{axis}, value], "
+                         f"got {show(row)}")
+                return None
+            if not all(math.isfinite(c) for c in row):
+                self.add(name, f"row {i} must be finite, got {row}")
+                return None
+        a = [r[0] for r in val]
+        if steps:
+            if any(y < x for x, y in zip(a, a[1:])) or any(x == z for x, z in zip(a, a[2:])):
+                self.add(name, f"the {axis} column must not decrease, and an {axis} appears "
+                         "at most twice (a step)")
+                return None
+        elif any(y <= x for x, y in zip(a, a[1:])):
+            self.add(name, f"the {axis} column must be strictly increasing")
+            return None
+        return [[float(x), float(y)] for x, y in val]
+
+
+class Checker(HistoryChecks):
+    """Collects problems; each reader returns a usable value or None.
+    ``folder`` is where relative file names point; ``inputs`` collects the
+    files read."""
+
+    def __init__(self, folder=None):
         self.problems = []
+        self.folder = folder or os.getcwd()
+        self.inputs = []
 
     def add(self, where, msg):
         self.problems.append(f"{where}: {msg}")
@@ -105,44 +231,6 @@ class Checker:
                      f"must be one of {', '.join(map(repr, choices))}, got {val!r}")
             return None
         return val
-
-    def history(self, tbl, key, where, axis, required=False):
-        """A number or a [[axis, value], ...] table with increasing axis;
-        an absent optional key is the constant 0."""
-        val = self.take(tbl, key, where, required)
-        if val is MISSING:
-            return None if required else History()
-        name = f"{where}.{key}"
-        if is_number(val):
-            if not math.isfinite(val):
-                self.add(name, f"must be finite, got {val}")
-                return None
-            return History(value=float(val))
-        if not isinstance(val, list):
-            self.add(name, f"must be a number or a [[{axis}, value], ...] table, "
-                     f"got {show(val)}")
-            return None
-        rows = self.rows(val, name, axis)
-        return None if rows is None else History(rows)
-
-    def rows(self, val, name, axis):
-        """Rows [[axis, value], ...] with a strictly increasing axis, or None."""
-        if len(val) < 2:
-            self.add(name, f"a table needs at least two [{axis}, value] rows, got {len(val)}")
-            return None
-        for i, row in enumerate(val):
-            if not isinstance(row, list) or len(row) != 2 or not all(map(is_number, row)):
-                self.add(name, f"row {i} must be a pair of numbers [{axis}, value], "
-                         f"got {show(row)}")
-                return None
-            if not all(math.isfinite(c) for c in row):
-                self.add(name, f"row {i} must be finite, got {row}")
-                return None
-        axis_vals = [r[0] for r in val]
-        if any(b <= a for a, b in zip(axis_vals, axis_vals[1:])):
-            self.add(name, f"the {axis} column must be strictly increasing")
-            return None
-        return [[float(a), float(b)] for a, b in val]
 
 
 def is_number(val):

@@ -198,8 +198,8 @@ def _solve(case, out_path, petsc_args, opts):
         rel = (e1 - e0) / e0 if e0 else float("nan")
         print(f"completed {info.slabs} slabs in {info.wall:.2f} s "
               f"({1e3 * info.wall / max(info.slabs, 1):.3f} ms/slab); "
-              f"energy {e0:.6g} -> {e1:.6g} ({100 * rel:+.3f} %); result: {out_path}",
-              flush=True)
+              f"energy {e0:.6g} -> {e1:.6g} ({100 * rel:+.3f} %), numerical "
+              f"{info.numerical:.3g}; result: {out_path}", flush=True)
     return 0
 
 

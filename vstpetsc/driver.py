@@ -4,14 +4,18 @@ the command line is a thin shell over it.  Collective over ``comm``."""
 
 import signal
 import sys
+
+import numpy as np
 import threading
 import time
 from dataclasses import dataclass
 
 from vstpetsc import model as model_mod
+from vstpetsc.energy import EnergyBook
 from vstpetsc.errors import InputError, Interrupted, SolveFailed
 from vstpetsc.loading import SlabLoads
 from vstpetsc.recorder import Recorder, load_restart
+from vstpetsc.static import static_state
 from vstpetsc.results import layout
 from vstpetsc.results.files import foreign, path_problem, same_file
 from vstpetsc.results.reader import Result
@@ -23,8 +27,9 @@ class RunInfo:
 
     slabs: int          # slabs computed by this call
     wall: float         # seconds, set-up included
-    energy0: float      # kinetic + strain at t = 0
-    energy1: float      # kinetic + strain at the last kept row
+    energy0: float      # the initial total energy
+    energy1: float      # kinetic + strain + spring at the last kept row
+    numerical: float    # energy dissipated by the time discretisation so far
 
 
 def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
@@ -108,10 +113,15 @@ class TimeLoop:
         self.talk = comm.getRank() == 0 and not quiet
         self.out, self.err = out, err
         self.model = model_mod.build_model(case)
+        self.static_u = None
+        if case.gravity is not None and case.gravity.initial == "static":
+            self.static_u, reactions = static_state(self.model)
+            self.model.laws.append(reactions)
         self.start = time.perf_counter()
         options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
+        self.loads = SlabLoads(self.model.laws)
         try:
-            self.solver = SlabSolver(self.model, case.dt, comm, options)
+            self.solver = SlabSolver(self.model, case.dt, comm, options, self.loads)
         except Exception as exc:
             error = setup_error(exc)
             if error is None:
@@ -119,8 +129,9 @@ class TimeLoop:
             raise error from None
         self.setup_time = time.perf_counter() - self.start
         self.space = self.solver.space
-        self.loads = SlabLoads(self.model.laws)
-        self.recorder = Recorder(output, self.model, self.solver, comm, options.flush_interval)
+        self.energy = EnergyBook(self.model)
+        self.recorder = Recorder(output, self.model, self.solver, comm, options.flush_interval,
+                                 self.energy)
 
     def execute(self, restart, petsc_options):
         """Solve every slab; return a RunInfo."""
@@ -128,15 +139,18 @@ class TimeLoop:
         if restart:
             self.recorder.lock_existing()
             try:
-                k0, u, v, energy0, rhs = load_restart(self.output, case, model)
+                k0, u, v, rhs, envelopes = load_restart(self.output, case, model, self.energy)
             except InputError:
                 self.recorder.release()
                 raise
         else:
-            k0, rhs = 0, None
+            k0, rhs, envelopes = 0, None, None
             u, v = model_mod.initial_state(model)
-            energy0 = model_mod.kinetic_energy(model.ops, v) + model_mod.strain_energy(model.ops, u)
-        self.solver.set_state(u, v)
+            if self.static_u is not None:
+                u = u + self.static_u
+            self.energy.start(u, v)
+        energy0 = self.energy.initial
+        self.solver.set_state(u, v, envelopes)
         if rhs is not None:
             self.solver.set_rhs_state(rhs)
         if self.talk:
@@ -150,8 +164,10 @@ class TimeLoop:
         self.recorder.close("completed", case.nslabs, snapshot=True,
                             wall_time=time.perf_counter() - self.start,
                             setup_time=self.setup_time)
+        last = energy1 or {}
         return RunInfo(case.nslabs - k0, time.perf_counter() - self.start, energy0,
-                       energy0 if energy1 is None else energy1)
+                       sum(last.get(k, 0.0) for k in ("kinetic", "strain", "spring")),
+                       last.get("numerical", 0.0))
 
     def _attrs(self, petsc_options):
         """The root attributes of the result file."""
@@ -163,7 +179,7 @@ class TimeLoop:
                 "solver": self.solver.describe()}
 
     def _loop(self, k0, stop):
-        """Slabs k0+1 .. n; the energy of the last kept row (None if none)."""
+        """Slabs k0+1 .. n; the energies of the last kept row (None if none)."""
         case, solver = self.case, self.solver
         n, dt = case.nslabs, case.dt
         progress = Progress(n - k0, self.err if self.talk else None)
@@ -222,11 +238,13 @@ def describe_model(case, model, output):
              f"  {len(case.bodies)} bodies, {mesh.nnodes} nodes, {mesh.elem_node.size} "
              f"elements; dt = {case.dt:g}, {case.nslabs} slabs to t = "
              f"{case.nslabs * case.dt:g}; keep every {case.every}; result: {output}"]
-    for b in case.bodies:
-        c = (b.E / b.rho) ** 0.5
-        h = (b.x[1] - b.x[0]) / b.elements
+    for i, b in enumerate(case.bodies):
+        el = mesh.elements(i)
+        c = np.sqrt(mesh.E[el] / mesh.rho[el])
+        courant = (c * case.dt / mesh.h[el]).max()
+        speed = f"{c[0]:.6g}" if np.ptp(c) == 0 else f"{c.min():.6g} .. {c.max():.6g}"
         lines.append(f"  body {b.name}: x = [{b.x[0]:g}, {b.x[1]:g}], {b.elements} elements,"
-                     f" c = {c:.6g}, c dt / h = {c * case.dt / h:.3g}")
+                     f" c = {speed}, c dt / h = {courant:.3g}")
     lines += [f"  {law.describe()}" for law in model.laws if law.describe()]
     return "\n".join(lines)
 

@@ -1,6 +1,14 @@
-"""Piecewise-linear histories ``f(t)`` (or profiles ``f(x)``) given as a number
-or a ``[[t, value], ...]`` table, and their exact integrals against the linear
-time shape functions of a slab."""
+"""Piecewise-linear histories ``f(t)`` (or profiles ``f(x)``): a number, a
+``[[t, value], ...]`` table, or samples read from a CSV or PEER ``.AT2``
+file, optionally scaled and integrated; and their exact integrals against
+the linear time shape functions of a slab.
+
+Every form ends as the same (t, f) table, so the same data inline or from a
+file give identical results.
+"""
+
+import csv
+import re
 
 import numpy as np
 
@@ -34,6 +42,10 @@ class History:
     def is_zero(self):
         return not np.any(self.f)
 
+    @property
+    def is_constant(self):
+        return bool(np.all(self.f == self.f[0]))
+
     def __eq__(self, other):
         return (isinstance(other, History) and np.array_equal(self.t, other.t)
                 and np.array_equal(self.f, other.f))
@@ -53,7 +65,9 @@ class History:
         the interval is split at the table's break points, so a Gauss rule on
         each piece integrates the product of two linear functions exactly.
         """
-        inner = self.t[(self.t > t0) & (self.t < t1)]
+        lo, hi = np.searchsorted(self.t, [t0, t1], side="right")
+        inner = self.t[lo:hi]
+        inner = inner[(inner > t0) & (inner < t1)]
         edges = np.concatenate(([t0], inner, [t1]))
         lo, length = edges[:-1], np.diff(edges)
         t = lo[:, None] + length[:, None] * GAUSS_X[None, :]
@@ -61,3 +75,97 @@ class History:
         f = self(t) * w
         theta = (t - t0) / (t1 - t0)
         return np.array([np.sum(f * (1.0 - theta)), np.sum(f * theta)])
+
+
+def from_samples(t, f, scale=1.0, integrate=False):
+    """The history of samples (t, f): times scale, then (``integrate``)
+    integrated once by the trapezoidal rule from 0 at the first sample."""
+    t = np.asarray(t, dtype=float)
+    f = np.asarray(f, dtype=float) * scale
+    if integrate:
+        f = np.concatenate(([0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))))
+    return History(np.column_stack([t, f]))
+
+
+class RecordError(ValueError):
+    """A history file that cannot be read; the message says where."""
+
+
+def read_csv(path, column=2):
+    """(t, values) of a CSV file: time in column 1, one optional header
+    line, ``column`` a header name or a 1-based index."""
+    try:
+        with open(path, newline="") as f:
+            rows = [r for r in csv.reader(f) if r and any(c.strip() for c in r)]
+    except OSError as exc:
+        raise RecordError(f"cannot read {path} ({exc.strerror})") from None
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise RecordError(f"{path}: not a CSV text file ({exc})") from None
+    header = None
+    if rows and not _numeric(rows[0][0]):
+        header, rows = [c.strip() for c in rows[0]], rows[1:]
+    index = _column_index(path, header, column)
+    t, v = [], []
+    for line, row in enumerate(rows, start=2 if header else 1):
+        if len(row) <= index:
+            raise RecordError(f"{path}, row {line}: no column {index + 1}")
+        if not (_numeric(row[0]) and _numeric(row[index])):
+            raise RecordError(f"{path}, row {line}: not a number: {row[0]!r}, {row[index]!r}")
+        t.append(float(row[0]))
+        v.append(float(row[index]))
+    return _checked(path, np.array(t), np.array(v))
+
+
+def read_at2(path):
+    """(t, values) of a PEER NGA-West2 record: four header lines, the fourth
+    ``NPTS= n, DT= dt SEC``; sample k at t = k dt."""
+    try:
+        with open(path) as f:
+            lines = f.read().splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RecordError(f"cannot read {path} ({getattr(exc, 'strerror', exc)})") from None
+    head = lines[3] if len(lines) > 3 else ""
+    match = re.search(r"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*([-+0-9.eE]+)", head, re.I)
+    if not match:
+        raise RecordError(f"{path}: line 4 is not 'NPTS= n, DT= dt SEC': {head.strip()!r}")
+    n, dt = int(match.group(1)), float(match.group(2))
+    try:
+        values = np.array(" ".join(lines[4:]).split(), dtype=float)
+    except ValueError as exc:
+        raise RecordError(f"{path}: not a number after the header ({exc})") from None
+    if values.size < n or not dt > 0:
+        raise RecordError(f"{path}: header says {n} samples at DT = {dt:g}, "
+                          f"found {values.size}")
+    return _checked(path, dt * np.arange(n), values[:n])
+
+
+def _checked(path, t, v):
+    if t.size < 2:
+        raise RecordError(f"{path}: needs at least two samples, got {t.size}")
+    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(v))):
+        raise RecordError(f"{path}: samples must be finite")
+    bad = np.nonzero(np.diff(t) <= 0)[0]
+    if bad.size:
+        raise RecordError(f"{path}: times must increase (sample {bad[0] + 2} at "
+                          f"{t[bad[0] + 1]:g} after {t[bad[0]]:g})")
+    return t, v
+
+
+def _column_index(path, header, column):
+    if isinstance(column, str) and not column.isdigit():
+        if header is None or column not in header:
+            known = ", ".join(header) if header else "none (no header line)"
+            raise RecordError(f"{path}: no column named {column!r} (columns: {known})")
+        return header.index(column)
+    index = int(column) - 1
+    if index < 1:
+        raise RecordError(f"{path}: column {column} is time; give 2 or more")
+    return index
+
+
+def _numeric(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False

@@ -1,10 +1,16 @@
-"""What the laws prescribe per slab: nodal force integrals and velocities.
+"""What the laws prescribe per slab: nodal force integrals, body forces and
+velocities.
 
 Loads and constraints never move, so their nodes are sorted out once; per
-slab only the histories are evaluated.  Pure numpy.
+slab only the histories are evaluated.  Body forces (a vector times a
+history) with a constant history are added to the running right-hand side
+once (docs/loads.md section 3); the others give two coefficients a slab.
+Pure numpy.
 """
 
 import numpy as np
+
+from vstpetsc.laws.base import FieldLoad
 
 
 class SlabLoads:
@@ -12,11 +18,17 @@ class SlabLoads:
 
     - forces: (nodes, values (n, 2)), ``int T_a f dt`` summed per node
       (nodes sorted, each once);
-    - velocities: (nodes, values (n, 2)), (v^1, v^2) of constrained nodes.
+    - velocities: (nodes, values (n, 2)), (v^1, v^2) of constrained nodes;
+    - fields: (m, 2) ``int T_a h dt`` of the m body forces with a history
+      (``varying``); those with a constant value are ``constant``.
     """
 
     def __init__(self, laws):
-        self.loads = [load for law in laws for load in law.loads()]
+        loads = [load for law in laws for load in law.loads()]
+        self.fields = [f for f in loads if isinstance(f, FieldLoad)]
+        self.loads = [f for f in loads if not isinstance(f, FieldLoad)]
+        self.varying = [f for f in self.fields if not f.history.is_constant]
+        self.constant = [f for f in self.fields if f.history.is_constant]
         self.constraints = [c for law in laws for c in law.constraints()]
         nodes = np.array([load.node for load in self.loads], dtype=int)
         self.force_nodes, self.force_slot = np.unique(nodes, return_inverse=True)
@@ -40,5 +52,8 @@ class SlabLoads:
                          for c in self.constraints])
         return self.fixed_nodes, vals
 
+    def field_integrals(self, t0, t1):
+        return np.array([f.history.hat_integrals(t0, t1) for f in self.varying]).reshape(-1, 2)
+
     def __call__(self, t0, t1):
-        return self.forces(t0, t1), self.velocities(t0, t1)
+        return self.forces(t0, t1), self.velocities(t0, t1), self.field_integrals(t0, t1)

@@ -24,7 +24,10 @@ class Mesh:
         ``first[b]:first[b+1]`` and elements ``first[b]-b:first[b+1]-b-1``.
     elem_node : (ne,) left node of each element (its right node is +1).
     elem_body : (ne,) body of each element.
-    h, E, A, rho : (ne,) element length and material.
+    h, E, A, rho : (ne,) element length and material (tables evaluated at
+        element midpoints).
+    alpha, beta : (ne,) Rayleigh coefficients of the element's body.
+    kf, cf : (ne,) foundation stiffness and damping per length.
     """
 
     x: np.ndarray
@@ -35,6 +38,10 @@ class Mesh:
     E: np.ndarray
     A: np.ndarray
     rho: np.ndarray
+    alpha: np.ndarray
+    beta: np.ndarray
+    kf: np.ndarray
+    cf: np.ndarray
 
     @property
     def nnodes(self):
@@ -67,13 +74,31 @@ class Mesh:
 
 @dataclass
 class Operators:
-    """The symmetric tridiagonal M and K as diagonals (N,) and the entries
-    (i, i+1) = (i+1, i) (N - 1,), zero between two bodies."""
+    """The symmetric tridiagonal spatial matrices as diagonals (N,) and the
+    entries (i, i+1) = (i+1, i) (N - 1,), zero between two bodies:
+    M (masses, support masses included), C (every dashpot), K (the bars'
+    own stiffness) and S (springs to the ground: foundation, supports)."""
 
     m_diag: np.ndarray
     m_off: np.ndarray
+    c_diag: np.ndarray
+    c_off: np.ndarray
     k_diag: np.ndarray
     k_off: np.ndarray
+    s_diag: np.ndarray
+    s_off: np.ndarray
+
+    def add_node(self, which, node, value):
+        """Add ``value`` to the diagonal of matrix ``which`` ("m", "c", "s")."""
+        getattr(self, f"{which}_diag")[node] += value
+
+    @property
+    def damped(self):
+        return bool(np.any(self.c_diag) or np.any(self.c_off))
+
+    @property
+    def sprung(self):
+        return bool(np.any(self.s_diag) or np.any(self.s_off))
 
 
 @dataclass
@@ -106,7 +131,8 @@ def build_model(case):
 
 
 def build_mesh(bodies):
-    """Every body meshed with its own number of equal linear elements."""
+    """Every body meshed with its own number of equal linear elements;
+    material tables evaluated at the element midpoints."""
     counts = np.array([b.elements + 1 for b in bodies])
     first = np.concatenate(([0], np.cumsum(counts)))
     x = np.concatenate([np.linspace(b.x[0], b.x[1], b.elements + 1) for b in bodies])
@@ -114,17 +140,30 @@ def build_mesh(bodies):
     elem_node = np.concatenate([np.arange(first[i], first[i + 1] - 1)
                                 for i in range(len(bodies))])
     h = x[elem_node + 1] - x[elem_node]
-    per_element = lambda key: np.array([getattr(b, key) for b in bodies])[elem_body]
-    return Mesh(x, first, elem_node, elem_body, h, per_element("E"), per_element("area"),
-                per_element("rho"))
+    mid = 0.5 * (x[elem_node] + x[elem_node + 1])
+    profile = lambda key: np.concatenate(
+        [getattr(b, key)(mid[elem_body == i]) for i, b in enumerate(bodies)])
+    constant = lambda values: np.array(values, dtype=float)[elem_body]
+    return Mesh(x, first, elem_node, elem_body, h, profile("E"), profile("area"),
+                profile("rho"), constant([b.damping[0] for b in bodies]),
+                constant([b.damping[1] for b in bodies]),
+                constant([b.foundation[0] for b in bodies]),
+                constant([b.foundation[1] for b in bodies]))
 
 
 def element_operators(mesh):
-    """Consistent mass M_e = rho A h / 6 [[2, 1], [1, 2]] and stiffness
-    K_e = E A / h [[1, -1], [-1, 1]], assembled."""
+    """Consistent mass M_e = rho A h / 6 [[2, 1], [1, 2]], stiffness
+    K_e = E A / h [[1, -1], [-1, 1]], Rayleigh and foundation dashpots
+    C_e = alpha M_e + beta K_e + c_f h / 6 [[2, 1], [1, 2]] and foundation
+    springs S_e = k_f h / 6 [[2, 1], [1, 2]], assembled."""
     me = mesh.rho * mesh.A * mesh.h / 6.0
     ke = mesh.E * mesh.A / mesh.h
-    return Operators(*assemble(mesh, 2 * me, me), *assemble(mesh, ke, -ke))
+    ce = mesh.cf * mesh.h / 6.0
+    se = mesh.kf * mesh.h / 6.0
+    return Operators(*assemble(mesh, 2 * me, me),
+                     *assemble(mesh, mesh.alpha * 2 * me + mesh.beta * ke + 2 * ce,
+                               mesh.alpha * me - mesh.beta * ke + ce),
+                     *assemble(mesh, ke, -ke), *assemble(mesh, 2 * se, se))
 
 
 def assemble(mesh, diag_e, off_e):
@@ -148,13 +187,18 @@ def band_mult(diag, off, u):
 
 
 def kinetic_energy(ops, v):
-    """1/2 v^T M v."""
+    """1/2 v^T M v (support masses included)."""
     return 0.5 * float(v @ band_mult(ops.m_diag, ops.m_off, v))
 
 
 def strain_energy(ops, u):
-    """1/2 u^T K u."""
+    """1/2 u^T K u: the bars' own."""
     return 0.5 * float(u @ band_mult(ops.k_diag, ops.k_off, u))
+
+
+def spring_energy(ops, u):
+    """1/2 u^T S u: foundation and support springs."""
+    return 0.5 * float(u @ band_mult(ops.s_diag, ops.s_off, u)) if ops.sprung else 0.0
 
 
 def element_stress(mesh, u):
@@ -173,20 +217,21 @@ def initial_state(model):
     return u, v
 
 
-def dense(ops):
-    """Dense M and K (for checks on small meshes)."""
-    M = np.diag(ops.m_diag) + np.diag(ops.m_off, 1) + np.diag(ops.m_off, -1)
-    K = np.diag(ops.k_diag) + np.diag(ops.k_off, 1) + np.diag(ops.k_off, -1)
-    return M, K
+def dense(ops, which="mk"):
+    """Dense matrices named by ``which`` (default M and K; "mcks" for all
+    four), for checks on small meshes."""
+    return tuple(np.diag(getattr(ops, f"{w}_diag")) + np.diag(getattr(ops, f"{w}_off"), 1)
+                 + np.diag(getattr(ops, f"{w}_off"), -1) for w in which)
 
 
 def modes(ops, fixed_nodes=()):
-    """Eigenpairs of K phi = w^2 M phi with the given nodes fixed (dense; for
+    """Eigenpairs of (K + S) phi = w^2 M phi with the given nodes fixed (dense; for
     checks on small meshes).  Returns (w2, Phi, free) with Phi M-orthonormal
     over the free nodes."""
     import scipy.linalg
 
-    M, K = dense(ops)
+    M, K, S = dense(ops, "mks")
+    K = K + S
     free = np.setdiff1d(np.arange(M.shape[0]), np.asarray(fixed_nodes, dtype=int))
     w2, phi = scipy.linalg.eigh(K[np.ix_(free, free)], M[np.ix_(free, free)])
     return np.maximum(w2, 0.0), phi, free

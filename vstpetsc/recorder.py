@@ -13,8 +13,9 @@ from vstpetsc.results import layout
 class Recorder:
     """The result file of one run (``writer`` on rank 0, None elsewhere)."""
 
-    def __init__(self, output, model, solver, comm, interval):
+    def __init__(self, output, model, solver, comm, interval, energy):
         self.output, self.model, self.solver = output, model, solver
+        self.energy = energy
         self.space = solver.space
         self.rank0 = comm.getRank() == 0
         self.size = comm.getSize()
@@ -56,28 +57,41 @@ class Recorder:
         from vstpetsc.results.writer import ResultWriter
 
         model, dt = self.model, model_dt(self.model)
+        snapshots = self._snapshots(rhs=False)          # collective
 
         def create():
             if restart:
                 self.writer = ResultWriter.reopen(self.lock, attrs, self.interval)
                 return
-            first = layout.row(model, 0, dt, u, v, (0, 0), 0.0)
+            first = layout.row(model, 0, dt, u, v, (0, 0), 0.0, self.energy.row(u, v, {}))
             self.writer = ResultWriter.create(
                 self.output, layout.series(model), layout.statics(model),
-                layout.group_attrs(model), attrs, first, self.interval)
+                layout.group_attrs(model), attrs, first, self.interval, snapshots)
         self._agree(create)
+
+    def _snapshots(self, rhs=True):
+        """The state a restart needs, on rank 0: the envelopes and (``rhs``)
+        the running right-hand side (collective)."""
+        lo_hi = self.solver.envelopes(self.model.mesh.elem_node.size)
+        b = self.solver.rhs_state() if rhs else None
+        if not self.rank0:
+            return None
+        out = layout.envelope_snapshots(self.model, *lo_hi)
+        if rhs:
+            out[layout.RHS_STATE] = b
+        return out
 
     def record(self, k, its):
         """Keep slab k: its row on rank 0, a block to the file when due;
-        returns the row's kinetic + strain energy (rank 0)."""
+        returns the row's energies (rank 0)."""
         state = self.solver.gather_state()
+        totals = self.solver.totals()
         energy = None
         if self.rank0:
             u, v = state
-            row = layout.row(self.model, k, model_dt(self.model), u, v, its,
-                             time.perf_counter() - self.start)
-            self.writer.append(row)
-            energy = row["energy/kinetic"] + row["energy/strain"]
+            energy = self.energy.row(u, v, totals)
+            self.writer.append(layout.row(self.model, k, model_dt(self.model), u, v, its,
+                                          time.perf_counter() - self.start, energy))
         if self.space.max_over_ranks(int(self.rank0 and self.writer.due())):
             self.flush(k)
         return energy
@@ -86,11 +100,11 @@ class Recorder:
         """Write the buffered rows with the restart state of slab k."""
         from vstpetsc.results.writer import OutputFailed
 
-        rhs = self.solver.rhs_state()          # collective
+        snapshots = self._snapshots()          # collective
         error = None
         if self.rank0:
             try:
-                self.writer.flush({layout.RHS_STATE: rhs}, k)
+                self.writer.flush(snapshots, k)
             except OutputFailed as exc:
                 error = str(exc)
         error = self.space.from_rank0(error)
@@ -98,22 +112,24 @@ class Recorder:
             raise OutputFailed(error)
 
     def close(self, status, slab, snapshot, **attrs):
-        """Close the file with ``status`` (collective when ``snapshot``)."""
-        rhs = self.solver.rhs_state() if snapshot else None
+        """Close the file with ``status`` (collective); the running
+        right-hand side goes with it when ``snapshot`` (the envelopes
+        always)."""
+        snapshots = self._snapshots(rhs=snapshot)
         if self.writer:
             writer, self.writer = self.writer, None
-            writer.close(status, {layout.RHS_STATE: rhs} if snapshot else None, slab,
-                         slabs_done=slab, **attrs)
+            writer.close(status, snapshots, slab, slabs_done=slab, **attrs)
 
 
 def model_dt(model):
     return model.case.dt
 
 
-def load_restart(path, case, model):
-    """(slab, u, v, initial energy, running right-hand side or None) of the
-    last row of result file ``path``, after checking that it continues
-    ``case``; its laws take their running totals back."""
+def load_restart(path, case, model, energy):
+    """(slab, u, v, running right-hand side or None, envelopes or None) of
+    the last row of result file ``path``, after checking that it continues
+    ``case``; its laws and ``energy`` (an EnergyBook) take their running
+    sums back."""
     import h5py
 
 
@@ -125,18 +141,19 @@ def load_restart(path, case, model):
         if "solver/slab" not in f or "case" not in f.attrs:
             raise InputError(f"--restart: {path} has no restart data (not a vstpetsc result)")
         _check_continues(f, path, case)
-        k0, u, v, values = layout.last_state(f, model)
+        k0, u, v, values, first, last = layout.last_state(f, model)
         if k0 >= case.nslabs:
             raise InputError(f"--restart: {path} already reaches slab {k0} (t = "
                              f"{f['time'][-1]:g}); raise time.end to continue it")
         for law in model.recorded:
             law.restore(values[law.group])
-        energy0 = float(f["energy/kinetic"][0] + f["energy/strain"][0])
+        energy.restore(first, last)
         rhs = f.get(layout.RHS_STATE)
         # kept with every block; after a failed solve the last rows have
         # none and the solver starts again from (u, v), equal up to rounding
         rhs = rhs[...] if rhs is not None and int(rhs.attrs["slab"]) == k0 else None
-    return k0, np.asarray(u), np.asarray(v), energy0, rhs
+        envelopes = layout.read_envelopes(f, model)
+    return k0, np.asarray(u), np.asarray(v), rhs, envelopes
 
 
 def _check_continues(f, path, case):

@@ -16,8 +16,9 @@ from vstpetsc.history import History
 WALL = "wall"
 ENDS = ("left", "right")
 UNITS = {"length": "m", "time": "s", "mass": "kg"}
-TOP = ("time", "output", "body", "contact", "bc", "units")
-BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0")
+TOP = ("time", "output", "body", "contact", "bc", "units", "gravity")
+BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0", "damping", "foundation")
+INITIAL = ("rest", "static")
 MAX_SLABS = 1e12          # beyond any run; guards int() and memory against typos
 MAX_ELEMENTS = 10**8      # per body
 DT_RANGE = (1e-150, 1e150)  # dt^2 must neither underflow nor overflow
@@ -25,14 +26,28 @@ DT_RANGE = (1e-150, 1e150)  # dt^2 must neither underflow nor overflow
 
 @dataclass
 class Body:
+    """A [[body]]: E, rho and area are profiles along x (History of x;
+    constant for a number), damping = (alpha, beta) of Rayleigh's
+    C = alpha M + beta K, foundation = (stiffness, damping) per length."""
+
     name: str
     x: tuple
     elements: int
-    E: float
-    rho: float
-    area: float = 1.0
+    E: History
+    rho: History
+    area: History = field(default_factory=lambda: History(value=1.0))
     v0: History = field(default_factory=History)
     u0: History = field(default_factory=History)
+    damping: tuple = (0.0, 0.0)
+    foundation: tuple = (0.0, 0.0)
+
+
+@dataclass
+class GravitySpec:
+    """[gravity]: the acceleration g(t) along +x, and the initial state."""
+
+    g: History
+    initial: str = "rest"
 
 
 @dataclass
@@ -57,9 +72,10 @@ class BoundarySpec:
     params: dict
 
 
-def read(doc):
-    """The typed parts of a case document: a dict of Case fields."""
-    chk = Checker()
+def read(doc, folder=None):
+    """The typed parts of a case document: a dict of Case fields (relative
+    file names refer to ``folder``)."""
+    chk = Checker(folder)
     chk.unknown(doc, TOP, "")
     parts = {}
     parts.update(read_time(chk, chk.table(doc, "time", "time", required=True)))
@@ -68,10 +84,29 @@ def read(doc):
     bodies, names = read_bodies(chk, doc)
     contacts = read_contacts(chk, chk.tables(doc, "contact"), bodies, names)
     bcs = read_bcs(chk, chk.tables(doc, "bc"), names, contacts)
+    parts["gravity"] = read_gravity(chk, chk.table(doc, "gravity", "gravity", required=False),
+                                    bodies)
     if chk.problems:
         raise CaseError(chk.problems)
-    parts.update(bodies=bodies, contacts=contacts, bcs=bcs)
+    parts.update(bodies=bodies, contacts=contacts, bcs=bcs, input_files=chk.inputs)
     return parts
+
+
+def read_gravity(chk, tbl, bodies):
+    """[gravity] (None if absent)."""
+    if not tbl:
+        return None
+    chk.unknown(tbl, ("g", "initial"), "gravity")
+    g = chk.history(tbl, "g", "gravity", "t", required=True, records=True)
+    initial = chk.string(tbl, "initial", "gravity", required=False, default="rest",
+                         choices=INITIAL)
+    if initial == "static":
+        moved = [b.name for b in bodies if b is not None and not b.u0.is_zero]
+        if moved:
+            chk.add("gravity.initial", f"\"static\" computes the initial displacements; "
+                    f"body {moved[0]!r} gives u0 as well")
+            return None
+    return None if g is None or initial is None else GravitySpec(g, initial)
 
 
 def read_time(chk, tm):
@@ -160,11 +195,34 @@ def _body(chk, tbl, i, names):
     if ne is not None and ne > MAX_ELEMENTS:
         chk.add(f"{where}.elements", f"at most {MAX_ELEMENTS}, got {ne}")
         ne = None
-    fields = (name, x, ne, chk.number(tbl, "E", where, positive=True),
-              chk.number(tbl, "rho", where, positive=True),
-              chk.number(tbl, "area", where, required=False, default=1.0, positive=True),
-              chk.history(tbl, "v0", where, "x"), chk.history(tbl, "u0", where, "x"))
+    E, rho, area = (_material(chk, tbl, where, key, x, default)
+                    for key, default in (("E", None), ("rho", None), ("area", 1.0)))
+    fields = (name, x, ne, E, rho, area,
+              chk.history(tbl, "v0", where, "x"), chk.history(tbl, "u0", where, "x"),
+              _pair_of(chk, tbl, "damping", where, ("alpha", "beta")),
+              _pair_of(chk, tbl, "foundation", where, ("stiffness", "damping")))
     return name, None if any(f is None for f in fields) else Body(*fields)
+
+
+def _material(chk, tbl, where, key, x, default):
+    """A material profile that covers the body (a table must span it)."""
+    prof = chk.profile(tbl, key, where, default)
+    if prof is None or prof.t.size == 1 or x is None:
+        return prof
+    if prof.t[0] > x[0] or prof.t[-1] < x[1]:
+        chk.add(f"{where}.{key}", f"the table covers x in [{prof.t[0]:g}, {prof.t[-1]:g}]; "
+                f"the body spans [{x[0]:g}, {x[1]:g}]")
+        return None
+    return prof
+
+
+def _pair_of(chk, tbl, key, where, names):
+    """Two non-negative numbers of an inline table (0 when absent)."""
+    sub = chk.table(tbl, key, f"{where}.{key}", required=False)
+    chk.unknown(sub, names, f"{where}.{key}")
+    vals = [chk.number(sub, n, f"{where}.{key}", required=False, default=0.0, minimum=0.0)
+            for n in names]
+    return None if None in vals else tuple(vals)
 
 
 def _interval(chk, tbl, where):

@@ -13,34 +13,48 @@ import numpy as np
 HM = np.array([[0.5, 0.5], [-0.5, 0.5]])
 # int T_a I_b dt / dt^2.
 HK = np.array([[1.0 / 8.0, 1.0 / 24.0], [5.0 / 24.0, 1.0 / 8.0]])
+# int T_a T_b dt / dt (damping).
+HC = np.array([[1.0 / 3.0, 1.0 / 6.0], [1.0 / 6.0, 1.0 / 3.0]])
 # r^1 = M v^{n-} - dt/2 K u^n,  r^2 = -dt/2 K u^n, acting on the state (u, v).
 RM = np.array([[0.0, 1.0], [0.0, 0.0]])
 RK = np.array([[-0.5, 0.0], [-0.5, 0.0]])
 
 
-def node_blocks(ops, cm, ck):
-    """Blocks ``cm * M_ij + ck * K_ij`` of a 2N x 2N operator.
+def bands(ops, which):
+    """(diagonal, off-diagonal) of M, C or the stiffness K + S."""
+    if which == "k":
+        return ops.k_diag + ops.s_diag, ops.k_off + ops.s_off
+    return getattr(ops, f"{which}_diag"), getattr(ops, f"{which}_off")
+
+
+def node_blocks(ops, **coefficients):
+    """Blocks ``sum_w c_w * W_ij`` of a 2N x 2N operator, over the spatial
+    matrices named by the keywords (m: M, c: C, k: K + S) with 2 x 2 time
+    coefficients.
 
     Returns an array (N, 3, 2, 2): ``[i, 0]`` couples node i to i-1, ``[i, 1]``
     to itself, ``[i, 2]`` to i+1 (zero where there is no such node).
     """
     n = ops.m_diag.size
-    mb, kb = np.zeros((n, 3)), np.zeros((n, 3))
-    mb[:, 1], kb[:, 1] = ops.m_diag, ops.k_diag
-    mb[1:, 0], kb[1:, 0] = ops.m_off, ops.k_off
-    mb[:-1, 2], kb[:-1, 2] = ops.m_off, ops.k_off
-    return mb[..., None, None] * cm + kb[..., None, None] * ck
+    out = np.zeros((n, 3, 2, 2))
+    for which, coef in coefficients.items():
+        diag, off = bands(ops, which)
+        band = np.zeros((n, 3))
+        band[:, 1], band[1:, 0], band[:-1, 2] = diag, off, off
+        out += band[..., None, None] * coef
+    return out
 
 
 def slab_matrix(ops, dt, w=np.eye(2), v=np.eye(2)):
-    """Blocks of [A] = HM (x) M + dt^2 HK (x) K; with per-node transforms,
-    of (W (x) I) A (V (x) I) (test functions mixed by W, unknowns x = V z)."""
-    return node_blocks(ops, w @ HM @ v, dt * dt * w @ HK @ v)
+    """Blocks of [A] = HM (x) M + dt HC (x) C + dt^2 HK (x) (K + S); with
+    per-node transforms, of (W (x) I) A (V (x) I) (test functions mixed by W,
+    unknowns x = V z)."""
+    return node_blocks(ops, m=w @ HM @ v, c=dt * w @ HC @ v, k=dt * dt * w @ HK @ v)
 
 
 def rhs_operator(ops, dt, w=np.eye(2)):
     """Blocks of the operator R with r = R (u^n, v^{n-}) (or of W R)."""
-    return node_blocks(ops, w @ RM, dt * w @ RK)
+    return node_blocks(ops, m=w @ RM, k=dt * w @ RK)
 
 
 def impose_dirichlet(blocks, dofs, diagonal):
@@ -58,16 +72,21 @@ def block_rows_csr(blocks, n0, n1):
     with global column numbers, keeping explicit zeros so that every
     neighbour coupling (also between two bodies, where contact enters) has a
     slot in the matrix."""
+    return node_rows_csr(blocks, np.arange(n0, n1))
+
+
+def node_rows_csr(blocks, nodes):
+    """CSR arrays of the dof rows of the given nodes (any order), global
+    column numbers, explicit zeros kept."""
     n = blocks.shape[0]
-    nodes = np.arange(n0, n1)
-    col_node = nodes[:, None] + np.array([-1, 0, 1])[None, :]          # (nl, 3)
+    nodes = np.asarray(nodes, dtype=int)
+    col_node = nodes[:, None] + np.array([-1, 0, 1])[None, :]
     valid = (col_node >= 0) & (col_node < n)
-    shape = (nodes.size, 2, 3, 2)                                       # row dof a, neighbour, col dof b
+    shape = (nodes.size, 2, 3, 2)
     cols = np.broadcast_to(2 * col_node[:, None, :, None] + np.arange(2), shape)
     mask = np.broadcast_to(valid[:, None, :, None], shape)
-    data = blocks[n0:n1].transpose(0, 2, 1, 3)
-    counts = mask.sum(axis=(2, 3)).ravel()
-    indptr = np.concatenate(([0], np.cumsum(counts)))
+    data = blocks[nodes].transpose(0, 2, 1, 3)
+    indptr = np.concatenate(([0], np.cumsum(mask.sum(axis=(2, 3)).ravel())))
     return indptr, cols[mask], data[mask]
 
 
@@ -126,20 +145,24 @@ def recurrence(dt):
 
 def increment_rows(ops, dt, n0, n1):
     """CSR arrays (indptr, indices, data) of the running-sum increment, dof
-    rows of nodes n0..n1-1: row 2i holds gm M_ij on columns 2j, row 2i+1
-    holds gk K_ij on columns 2j+1 (j = i-1, i, i+1), three entries a row
-    (zeros between bodies kept).  Built directly, without the 2 x 2 blocks,
-    to keep the set-up memory small."""
+    rows of nodes n0..n1-1: row 2i holds gm (M + dt/6 C)_ij on columns 2j,
+    row 2i+1 holds gk (K + S)_ij on columns 2j+1 (j = i-1, i, i+1), three
+    entries a row (zeros between bodies kept).  Built directly, without the
+    2 x 2 blocks, to keep the set-up memory small.
+
+    Damping enters the first rows only: (T - I) dt HC = (dt / 6) (T - I) HM
+    + ... has the pattern of XM (docs/loads.md section 3)."""
     _, _, gm, gk = recurrence(dt)
     n = ops.m_diag.size
     nodes = np.arange(n0, n1)
     cols = nodes[:, None] + np.array([-1, 0, 1])                       # (nl, 3)
     valid = (cols >= 0) & (cols < n)
     pad = np.zeros(1)
-    m = np.column_stack([np.r_[pad, ops.m_off][nodes], ops.m_diag[nodes],
-                         np.r_[ops.m_off, pad][nodes]])
-    k = np.column_stack([np.r_[pad, ops.k_off][nodes], ops.k_diag[nodes],
-                         np.r_[ops.k_off, pad][nodes]])
+    (md, mo), (kd, ko) = bands(ops, "m"), bands(ops, "k")
+    if ops.damped:
+        md, mo = md + dt / 6.0 * ops.c_diag, mo + dt / 6.0 * ops.c_off
+    m = np.column_stack([np.r_[pad, mo][nodes], md[nodes], np.r_[mo, pad][nodes]])
+    k = np.column_stack([np.r_[pad, ko][nodes], kd[nodes], np.r_[ko, pad][nodes]])
     data = np.stack([gm * m, gk * k], axis=1)                          # (nl, 2, 3)
     dofs = 2 * cols[:, None, :] + np.arange(2)[None, :, None]
     mask = np.broadcast_to(valid[:, None, :], data.shape)

@@ -6,15 +6,19 @@ index, case, mesh)`` (the :class:`~vstpetsc.laws.base.Law`).  A new law is a
 new module and an entry in one of these registries.
 """
 
-from vstpetsc.laws import fixed, penalty, traction, velocity
+from vstpetsc.laws import absorbing, fixed, gravity, penalty, support, traction, velocity
 
-BOUNDARY = {"fixed": fixed, "velocity": velocity, "traction": traction}
+BOUNDARY = {"fixed": fixed, "velocity": velocity, "traction": traction, "support": support,
+            "absorbing": absorbing}
 CONTACT = {"seed": penalty, "power": penalty}
 
 
 def build_laws(case, mesh):
-    """Every law of ``case``: its contact pairs in order, then its [[bc]]s."""
+    """Every law of ``case``: its contact pairs in order, its [[bc]]s, then
+    gravity."""
     laws = [CONTACT[c.formulation].build(c, k, case, mesh)
             for k, c in enumerate(case.contacts)]
     laws += [BOUNDARY[b.type].build(b, k, case, mesh) for k, b in enumerate(case.bcs)]
+    if case.gravity is not None:
+        laws.append(gravity.build(case.gravity))
     return laws

@@ -9,8 +9,11 @@ right-hand side):
 
 - ``add_operators(ops)``: add to the bands of M, C and K (supports, dashpots);
 - ``constraints()``: prescribed velocities, a list of :class:`Constraint`;
-- ``loads()``: nodal forces, a list of :class:`Load`, each a weight times a
-  history, integrated exactly against the time shape functions every slab.
+- ``loads()``: nodal forces, a list of :class:`Load` (a weight times a
+  history on one node) and :class:`FieldLoad` (a vector times a history),
+  integrated exactly against the time shape functions every slab;
+- ``held_nodes()``: nodes held fixed while the static initial state is
+  computed (their reactions then act as constant forces).
 
 Nonlinear part, on the law's few ``nodes`` (unknowns per node: the
 velocities v^1 = v^{n+} and v^2 = v^{(n+1)-}):
@@ -53,6 +56,14 @@ class Load:
     history: History
 
 
+@dataclass
+class FieldLoad:
+    """Nodal forces ``vector * history(t)`` on every node (a body force)."""
+
+    vector: np.ndarray
+    history: History
+
+
 class Law:
     """Base of every law: contributes nothing unless a method is overridden."""
 
@@ -68,6 +79,9 @@ class Law:
         return []
 
     def loads(self):
+        return []
+
+    def held_nodes(self):
         return []
 
     def describe(self):

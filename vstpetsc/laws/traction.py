@@ -9,7 +9,7 @@ KEYS = ("value",)
 
 
 def read(chk, tbl, where):
-    value = chk.history(tbl, "value", where, "t", required=True)
+    value = chk.history(tbl, "value", where, "t", required=True, records=True)
     return None if value is None else {"value": value}
 
 

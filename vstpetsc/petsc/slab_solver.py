@@ -10,18 +10,24 @@ is that transformed slab matrix, X the unknowns z.
 Per slab: one solve gives the law-free solution; if no nonlinear law is
 active anywhere in the slab for it, it is the answer (the laws' terms
 vanish); otherwise Newton (:mod:`vstpetsc.petsc.newton`) starts from it.
+The slab's energy terms (docs/loads.md section 4) are summed as it closes.
 """
 
 import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc import slab
+from vstpetsc.envelope import StressEnvelope
 from vstpetsc.errors import SolveFailed
 from vstpetsc.lawset import LawSet
+from vstpetsc.loading import SlabLoads
+from vstpetsc.petsc.fields import FieldTerms
 from vstpetsc.petsc.linear import LinearSolver, reason_name
 from vstpetsc.petsc.matrices import block_matrix, increment_matrix
 from vstpetsc.petsc.newton import Condensed, Coupling, Full
-from vstpetsc.petsc.space import Space
+from vstpetsc.petsc.reactions import Reactions
+from vstpetsc.petsc.space import DofGather, Space
+from vstpetsc.petsc.work import DampingWork
 
 
 class SlabSolver:
@@ -33,35 +39,48 @@ class SlabSolver:
     dt : float
     comm : PETSc communicator
     options : vstpetsc.petsc.options.SolverOptions
+    loads : vstpetsc.loading.SlabLoads, optional
+        The model's loads (built from its laws when not given).
     """
 
-    def __init__(self, model, dt, comm, options):
+    def __init__(self, model, dt, comm, options, loads=None):
         self.dt = dt
-        ops, nnodes = model.ops, model.mesh.nnodes
-        self.space = Space(nnodes, comm, options.ownership)
-        n0, n1 = self.space.nodes
+        loads = SlabLoads(model.laws) if loads is None else loads
+        ops = model.ops
+        self.space = Space(model.mesh.nnodes, comm, options.ownership)
+        n0, n1 = nodes = self.space.nodes
         self.W, self.V, _, _ = slab.recurrence(dt)
         self.Vinv = np.linalg.inv(self.V)
         self.WT = self.W @ slab.CARRY                     # W T
         self.carry = self.W @ (slab.CARRY - np.eye(2)) @ np.linalg.inv(self.W)
-        fixed = [2 * c.node + a for law in model.laws for c in law.constraints()
-                 for a in (0, 1)]
+        fixed = (2 * loads.fixed_nodes[:, None] + np.arange(2)).ravel()
         self.A = block_matrix(slab.impose_dirichlet(slab.slab_matrix(ops, dt, self.W, self.V),
-                                                    fixed, 1.0),
-                              (n0, n1), comm, options.mat_type)
-        self.R = block_matrix(slab.rhs_operator(ops, dt, self.W), (n0, n1), comm,
-                              options.mat_type)
-        self.G = increment_matrix(ops, dt, (n0, n1), comm)
+                                                    fixed, 1.0), nodes, comm, options.mat_type)
+        self.R = block_matrix(slab.rhs_operator(ops, dt, self.W), nodes, comm, options.mat_type)
+        self.G = increment_matrix(ops, dt, nodes, comm)
         self.Y = self.space.vector()    # (u, v) per node, for input and output
         self.X = self.space.vector()    # slab unknowns z per node
         self.b = self.X.duplicate()     # W r: the running right-hand side
         self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
-        self._loads = None              # (local dofs, -W T f) of the open slab
+        self._loads = None              # (local dofs, -W T f, f) of the open slab
         self.linear = LinearSolver(self.A, comm)
+        self.fields = FieldTerms(self.space, loads, self.W, self.V, dt)
+        self.reactions = None if loads.all_fixed else \
+            Reactions(self.space, ops, dt, self.W, self.V, loads.fixed_nodes)
+        self.damping = DampingWork(self.space, ops, dt, self.V, options.mat_type)
+        self.envelope = StressEnvelope(model.mesh, nodes)
+        self.ghost = DofGather(self.X, [2 * n1 + 1] if self.envelope.ghost else [], nodes)
+        self.u_ghost = 0.0
+        self._setup_laws(model, options)
+        self.work = {"damping": 0.0, "external": 0.0, "contact": 0.0}    # sums on every rank
+        self.local_work = 0.0          # this rank's share of the external work
+
+    def _setup_laws(self, model, options):
         self.laws = LawSet(model.nonlinear)
         self.newton = None
         if self.laws.size:
-            self.coupling = Coupling(self.laws, self.X, (n0, n1), self.W, self.V,
+            comm = self.space.comm
+            self.coupling = Coupling(self.laws, self.X, self.space.nodes, self.W, self.V,
                                      self.linear)
             self.newton = Condensed(self.coupling, options.fd_jacobian, comm.getRank()) \
                 if options.newton == "condensed" else \
@@ -72,10 +91,11 @@ class SlabSolver:
         newton = f"; Newton: SNES {self.newton.snes.getType()}" if self.newton else ""
         return self.linear.describe() + newton
 
-    def rhs(self, forces, velocities):
-        """Add the nodal force integrals of the slab to the running b and set
-        the prescribed velocities: (nodes, values (n, 2)) pairs in the
-        velocity basis, global node numbers; nodes not owned are skipped."""
+    def rhs(self, forces, velocities, fields):
+        """Add the slab's nodal force integrals and body forces to the
+        running b and set the prescribed velocities: (nodes, values (n, 2))
+        pairs in the velocity basis, global node numbers (nodes not owned
+        are skipped); ``fields`` the integrals of the body forces."""
         n0, n1 = self.space.nodes
         arr = self.b.getArray()
         self._loads = None
@@ -84,9 +104,14 @@ class SlabSolver:
             own = (nodes >= n0) & (nodes < n1)
             idx = (2 * (nodes[own] - n0)[:, None] + np.arange(2)).ravel()
             arr[idx] += (per[own] @ self.W.T).ravel()
-            self._loads = (idx, -(per[own] @ self.WT.T).ravel())   # for advance()
+            self._loads = (idx, -(per[own] @ self.WT.T).ravel(), per[own])   # for advance()
+        if len(fields):
+            self.fields.add(self.b, fields)
+            arr = self.b.getArray()
         nodes, vals = velocities
         if nodes.size:
+            if self.reactions is not None:
+                self.reactions.hold(arr)
             own = (nodes >= n0) & (nodes < n1)
             idx = (2 * (nodes[own] - n0)[:, None] + np.arange(2)).ravel()
             arr[idx] = (vals @ self.Vinv.T)[own].ravel()
@@ -117,36 +142,74 @@ class SlabSolver:
             raise SolveFailed(f"slab {slab_index}: SNES did not converge "
                               f"({reason_name(PETSc.SNES.ConvergedReason, reason)}"
                               f" after {snes.getIterationNumber()} Newton iterations)")
-        c, _ = self.laws.residual(self.coupling.velocities(self.X))
+        s = self.coupling.velocities(self.X)
+        c, _ = self.laws.residual(s)
         self.law_rhs[:] = self.coupling.WE @ c
+        self.work["contact"] += float(c @ s)        # the laws took c . v
         return snes.getIterationNumber()
 
     def advance(self):
-        """Close the slab: b += G z (the running sum) minus the force terms,
-        u += z_2 (slab.recurrence)."""
+        """Close the slab: its energy terms, b += G z (the running sum)
+        minus the force terms, u += z_2 (slab.recurrence)."""
+        self._slab_work()
         # u first: the end of the backward sweep left z in cache
         np.add(self.u, self.X.getArray(readonly=True)[1::2], out=self.u)
+        if self.space.comm.getSize() > 1:       # collective, also without a ghost
+            ghost = self.ghost(self.X)
+            if self.envelope.ghost:
+                self.u_ghost += ghost[0]
+        self.envelope.update(self.u, self.u_ghost)
+        arr = self.b.getArray()
+        if self.reactions is not None:
+            self.reactions.carry(arr)
         self.G.multAdd(self.X, self.b, self.b)
+        arr = self.b.getArray()
         if self._loads is not None:
-            idx, corr = self._loads
-            self.b.getArray()[idx] += corr
+            arr[self._loads[0]] += self._loads[1]
             self._loads = None
+        self.fields.carry(self.b)
+        if self.reactions is not None:
+            self.reactions.carry_after(self.b.getArray())
         if self.newton is not None:
             self.laws.u += self.coupling.gather(self.X)[1::2]
             if self.law_rhs.any():
                 corr = (self.law_rhs.reshape(-1, 2) @ self.carry.T).ravel()
                 self.coupling.gather.add_rows(self.b, corr)
 
-    def set_state(self, u, v):
+    def _slab_work(self):
+        """Dashpots and external forces over the slab (the laws' share is
+        summed in _solve_laws)."""
+        self.work["damping"] += self.damping(self.X)
+        self.work["external"] += self.fields.work(self.X)
+        x = self.X.getArray(readonly=True)
+        if self._loads is not None:
+            idx, _, per = self._loads
+            self.local_work += float(np.sum(per * (x[idx].reshape(-1, 2) @ self.V.T)))
+        if self.reactions is not None:
+            self.reactions.solved(self.X)
+            self.local_work += self.reactions.work(x)
+
+    def totals(self):
+        """The summed energy terms over every rank (collective)."""
+        return {**self.work,
+                "external": self.work["external"] + self.space.sum_over_ranks(self.local_work)}
+
+    def set_state(self, u, v, envelope=None):
         """Start from displacements u and velocities v (global node arrays):
-        b = W R (u, v)."""
+        b = W R (u, v) plus the constant body forces; ``envelope`` (lo, hi)
+        of every element continues a restart's envelopes."""
         n0, n1 = self.space.nodes
         y = self.Y.getArray().reshape(-1, 2)
         y[:, 0], y[:, 1] = u[n0:n1], v[n0:n1]
         self.R.mult(self.Y, self.b)
+        self.fields.fold(self.b)
         self.u[:] = u[n0:n1]
         self._loads = None
         self.laws.u[:] = u[self.laws.nodes]
+        self.u_ghost = float(u[n1]) if self.envelope.ghost else 0.0
+        el = self.envelope.elements
+        restored = None if envelope is None else (envelope[0][el], envelope[1][el])
+        self.envelope.start(self.u, self.u_ghost, restored)
 
     def set_rhs_state(self, b):
         """Continue from a running right-hand side saved by rhs_state()
@@ -167,3 +230,7 @@ class SlabSolver:
         """The running right-hand side of all dofs on rank 0 (None
         elsewhere), between slabs."""
         return self.space.to_rank0(self.b)
+
+    def envelopes(self, nelements):
+        """(lo, hi) of every element on rank 0 (None elsewhere)."""
+        return self.space.assemble_on_rank0(nelements, *self.envelope.local())

@@ -4,19 +4,22 @@ their names from here.
 
     /time                          (nt,)
     /body/<name>/x, u, v, stress   (nn,), (nt, nn), (nt, nn), (nt, ne)
+    /body/<name>/stress_min, stress_max   (ne,) envelopes, rewritten with every block
     /<law group>/<series>          (nt,)   e.g. /contact/0/gap
-    /energy/kinetic, strain        (nt,)
+    /energy/kinetic, strain, spring, damping, external, contact, soil, numerical   (nt,)
     /solver/newton_iterations, linear_iterations, wall_time, slab   (nt,)
 """
 
 import numpy as np
 
+from vstpetsc import energy as energy_mod
 from vstpetsc import model as model_mod
 
 TIME = "time"
 BODY = "body"
 CONTACT = "contact"
-ENERGY = ("energy/kinetic", "energy/strain")
+ENERGY = tuple(f"energy/{k}" for k in energy_mod.KEYS)
+ENVELOPES = ("stress_min", "stress_max")
 SOLVER = ("solver/newton_iterations", "solver/linear_iterations", "solver/wall_time",
           "solver/slab")
 INTEGER_SERIES = ("solver/newton_iterations", "solver/linear_iterations", "solver/slab")
@@ -60,13 +63,34 @@ def formulation(model):
     return ",".join(forms) if forms else "none"
 
 
-def row(model, k, dt, u, v, its, wall):
-    """{dataset name: value} of the kept slab ``k`` from the nodal u and v."""
-    mesh, ops = model.mesh, model.ops
-    out = {TIME: k * dt, "solver/slab": k, "energy/kinetic": model_mod.kinetic_energy(ops, v),
-           "energy/strain": model_mod.strain_energy(ops, u),
+def envelope_snapshots(model, lo, hi):
+    """{dataset name: array} of the stress envelopes (all elements)."""
+    out = {}
+    for b, body in enumerate(model.case.bodies):
+        el = model.mesh.elements(b)
+        out[body_path(body.name, "stress_min")] = lo[el]
+        out[body_path(body.name, "stress_max")] = hi[el]
+    return out
+
+
+def read_envelopes(f, model):
+    """(lo, hi) of all elements from an open result file (None if absent)."""
+    names = [body_path(b.name, e) for b in model.case.bodies for e in ENVELOPES]
+    if not all(n in f for n in names):
+        return None
+    lo = np.concatenate([f[body_path(b.name, "stress_min")][...] for b in model.case.bodies])
+    hi = np.concatenate([f[body_path(b.name, "stress_max")][...] for b in model.case.bodies])
+    return lo, hi
+
+
+def row(model, k, dt, u, v, its, wall, energy):
+    """{dataset name: value} of the kept slab ``k`` from the nodal u and v
+    and the energies (an EnergyBook row)."""
+    mesh = model.mesh
+    out = {TIME: k * dt, "solver/slab": k,
            "solver/newton_iterations": its[0], "solver/linear_iterations": its[1],
            "solver/wall_time": wall}
+    out.update({f"energy/{key}": val for key, val in energy.items()})
     stress = model_mod.element_stress(mesh, u)
     for b, body in enumerate(model.case.bodies):
         nodes = mesh.nodes(b)
@@ -80,11 +104,12 @@ def row(model, k, dt, u, v, its, wall):
 
 
 def last_state(f, model):
-    """(slab, u, v, {group: {series: last value}}) of an open result file's
-    last row, for a restart."""
+    """(slab, u, v, {group: {series: last value}}, energies of the first
+    row, of the last row) of an open result file, for a restart."""
     k = int(f["solver/slab"][-1])
     u = np.concatenate([f[body_path(b.name, "u")][-1] for b in model.case.bodies])
     v = np.concatenate([f[body_path(b.name, "v")][-1] for b in model.case.bodies])
     laws = {law.group: {key: f[f"{law.group}/{key}"][-1] for key in law.series}
             for law in model.recorded}
-    return k, u, v, laws
+    energies = [{key.split("/")[1]: f[key][i] for key in ENERGY} for i in (0, -1)]
+    return k, u, v, laws, energies[0], energies[1]

@@ -61,9 +61,11 @@ class ResultWriter:
         self.broken = False
 
     @classmethod
-    def create(cls, path, series, statics, groups, attrs, first_row, interval=0.5):
-        """A new file: written under a temporary name with ``first_row``,
-        then renamed to ``path``; InputError if it cannot be."""
+    def create(cls, path, series, statics, groups, attrs, first_row, interval=0.5,
+               snapshots=None):
+        """A new file: written under a temporary name with ``first_row``
+        (and the ``snapshots`` of t = 0), then renamed to ``path``;
+        InputError if it cannot be."""
         lock = OutputLock(path)
         temp, f, fd, self = lock.new(), None, None, None
         try:
@@ -74,7 +76,7 @@ class ResultWriter:
             _header(f, series, statics, groups, attrs)
             self = cls(f, lock, interval, fd)
             self.append(first_row)
-            self.flush()
+            self.flush(snapshots, 0)
             lock.publish(fd)
         except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
             hdf5_failed = (self.broken if self is not None else

@@ -1,0 +1,56 @@
+"""Stress envelopes: the smallest and largest stress E du/dx of every
+element over every slab end (t = 0 included).  Each rank keeps the elements
+whose left node it owns; the right node of its last one may be the next
+rank's (a ghost value the solver keeps).  Four vector passes a slab, with
+buffers allocated once.  Pure numpy."""
+
+import numpy as np
+
+
+class StressEnvelope:
+    """Envelopes of the elements starting at nodes n0..n1-1 of ``mesh``.
+
+    Works on node pairs (i, i+1) of the local range; pairs that join two
+    bodies are no element and carry a zero factor.
+    """
+
+    def __init__(self, mesh, nodes):
+        n0, n1 = nodes
+        self.n0, self.n1 = n0, n1
+        self.ghost = n1 < mesh.nnodes
+        npairs = n1 - n0 - (0 if self.ghost else 1)
+        el = np.nonzero((mesh.elem_node >= n0) & (mesh.elem_node < n1))[0]
+        self.elements = el                               # global element numbers
+        self.pair = mesh.elem_node[el] - n0              # their local pair index
+        self.factor = np.zeros(max(npairs, 0))
+        self.factor[self.pair] = mesh.E[el] / mesh.h[el]
+        self.buf = np.empty(max(npairs, 0))
+        self.ext = np.empty(n1 - n0 + 1) if self.ghost else None
+        self.lo = self.hi = None
+
+    def stress(self, u, ghost=0.0):
+        """Stress of the local node pairs for the owned displacements u."""
+        if self.ghost:
+            self.ext[:-1] = u
+            self.ext[-1] = ghost
+            u = self.ext
+        np.subtract(u[1:], u[:-1], out=self.buf)
+        np.multiply(self.buf, self.factor, out=self.buf)
+        return self.buf
+
+    def start(self, u, ghost=0.0, restored=None):
+        """Begin with the stress of u (or continue ``restored`` (lo, hi) of
+        the local elements, from a result file)."""
+        s = self.stress(u, ghost)
+        self.lo, self.hi = s.copy(), s.copy()
+        if restored is not None:
+            self.lo[self.pair], self.hi[self.pair] = restored
+
+    def update(self, u, ghost=0.0):
+        s = self.stress(u, ghost)
+        np.minimum(self.lo, s, out=self.lo)
+        np.maximum(self.hi, s, out=self.hi)
+
+    def local(self):
+        """(global element numbers, lo, hi) of the local elements."""
+        return self.elements, self.lo[self.pair], self.hi[self.pair]

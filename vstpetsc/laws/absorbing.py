@@ -1,0 +1,48 @@
+"""Lysmer's absorbing end: a dashpot Z = rho c A (a half-space of that
+impedance beyond the end) that lets waves leave, and an incoming wave of
+particle velocity v_in(t): the end receives Z (2 v_in - v) along +x at
+either end (docs/loads.md section 1)."""
+
+import numpy as np
+
+from vstpetsc.laws.base import Load
+from vstpetsc.laws.end import EndLaw
+
+KEYS = ("impedance", "incident")
+
+
+def read(chk, tbl, where):
+    impedance = chk.number(tbl, "impedance", where, required=False, positive=True)
+    if impedance is None and "impedance" in tbl:
+        return None
+    incident = chk.history(tbl, "incident", where, "t", records=True)
+    return None if incident is None else {"impedance": impedance, "incident": incident}
+
+
+class Absorbing(EndLaw):
+    def __init__(self, spec, index, case, mesh):
+        super().__init__(spec, index, case, mesh)
+        e = self.element
+        given = spec.params["impedance"]
+        self.impedance = given if given is not None else \
+            float(np.sqrt(mesh.E[e] * mesh.rho[e]) * mesh.A[e])
+        self.incident = spec.params["incident"]
+
+    def add_operators(self, ops):
+        ops.add_node("c", self.node, self.impedance)
+
+    def loads(self):
+        if self.incident.is_zero:
+            return []
+        return [Load(self.node, 2.0 * self.impedance, self.incident)]
+
+    def held_nodes(self):
+        return [self.node]
+
+    def describe(self):
+        wave = "" if self.incident.is_zero else ", incident wave"
+        return f"{super().describe()} (impedance {self.impedance:.6g}{wave})"
+
+
+def build(spec, index, case, mesh):
+    return Absorbing(spec, index, case, mesh)

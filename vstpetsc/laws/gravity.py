@@ -1,0 +1,30 @@
+"""Gravity: the body force rho A g(t) along +x on every body, and m g(t) on
+every support mass.  Its consistent nodal load is the row sums of M (the
+bars' masses and the support masses) times g (docs/loads.md section 1)."""
+
+from vstpetsc.laws.base import FieldLoad, Law
+
+
+class Gravity(Law):
+    def __init__(self, spec):
+        self.g = spec.g
+        self.ops = None
+
+    def add_operators(self, ops):
+        self.ops = ops      # read in loads(), after every law added its masses
+
+    def loads(self):
+        ops = self.ops
+        lumped = ops.m_diag.copy()
+        lumped[:-1] += ops.m_off
+        lumped[1:] += ops.m_off
+        return [FieldLoad(lumped, self.g)]
+
+    def describe(self):
+        g = self.g
+        what = f"g = {g.f[0]:g}" if g.is_constant else f"g(t) ({g.t.size} points)"
+        return f"gravity: {what} along +x"
+
+
+def build(spec):
+    return Gravity(spec)
