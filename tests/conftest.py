@@ -23,15 +23,15 @@ def bar(name, x, elements, E=STEEL["E"], rho=STEEL["rho"], **extra):
             "E": E, "rho": rho, **extra}
 
 
-def make_case(dt, end, bodies, contacts=(), bcs=(), every=1, **tables):
-    """A vstpetsc.Case from its tables."""
+def make_case(dt, end, bodies, contacts=(), bcs=(), every=1, folder=None, **tables):
+    """A vstpetsc.Case from its tables (files relative to ``folder``)."""
     doc = {"time": {"dt": dt, "end": end}, "output": {"every": every},
            "body": list(bodies), **tables}
     if contacts:
         doc["contact"] = list(contacts)
     if bcs:
         doc["bc"] = list(bcs)
-    return vstpetsc.Case.from_dict(doc)
+    return vstpetsc.Case.from_dict(doc, folder=None if folder is None else str(folder))
 
 
 def solve(tmp_path, case, name="case", options=(), **kw):

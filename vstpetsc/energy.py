@@ -42,6 +42,6 @@ class EnergyBook:
         sums ``totals`` since this run started."""
         out = self.state(u, v)
         out.update({k: self.offset[k] + totals.get(k, 0.0) for k in SUMMED})
-        held = sum(out[k] for k in KEYS[:-1])
+        held = sum(out[k] for k in KEYS if k not in ("external", "numerical"))
         out["numerical"] = self.initial + out["external"] - held
         return out

@@ -23,7 +23,7 @@ class StressEnvelope:
         self.elements = el                               # global element numbers
         self.pair = mesh.elem_node[el] - n0              # their local pair index
         self.factor = np.zeros(max(npairs, 0))
-        self.factor[self.pair] = mesh.E[el] / mesh.h[el]
+        self.factor[self.pair] = (mesh.E / mesh.h)[el]
         self.buf = np.empty(max(npairs, 0))
         self.ext = np.empty(n1 - n0 + 1) if self.ghost else None
         self.lo = self.hi = None

@@ -202,9 +202,10 @@ def spring_energy(ops, u):
 
 
 def element_stress(mesh, u):
-    """E du/dx per element."""
+    """E du/dx per element, as (u_{i+1} - u_i) (E / h) (the envelopes
+    compute it the same way)."""
     n = mesh.elem_node
-    return mesh.E * (u[n + 1] - u[n]) / mesh.h
+    return (u[n + 1] - u[n]) * (mesh.E / mesh.h)
 
 
 def initial_state(model):

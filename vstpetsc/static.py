@@ -6,6 +6,8 @@ whole mesh with a sparse direct solve (the system is tridiagonal; a pair's
 two nodes are neighbours).  Every rank computes it alike.  numpy and scipy.
 """
 
+import warnings
+
 import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
@@ -86,7 +88,9 @@ def _residual(model, K, F, u):
 def _solve(J, rhs):
     if J.shape[0] == 0:
         return np.zeros(0)
-    du = scipy.sparse.linalg.spsolve(J.tocsc(), rhs)
+    with warnings.catch_warnings():       # a singular J is reported below
+        warnings.simplefilter("ignore")
+        du = scipy.sparse.linalg.spsolve(J.tocsc(), rhs)
     if not np.all(np.isfinite(du)) or np.abs(J @ du - rhs).max() > 1e-8 * max(np.abs(rhs).max(), 1e-300):
         raise InputError("gravity.initial: \"static\" needs every body held in place (by a "
                          "bc, an absorbing end, a support or foundation spring, or a contact "

@@ -34,12 +34,10 @@ def summarize(result):
     time = result.time
     dt = float(a.get("dt", time[1] - time[0] if time.size > 1 else np.nan))
     every = int(a.get("every", 1))
-    bodies = []
-    for name in result.bodies:
-        x = result.body(name).x
-        bodies.append((name, x.size - 1, float(x[0]), float(x[-1])))
+    bodies = [body_summary(result, name) for name in result.bodies]
     pairs = [pair_summary(result.contact(k), k) for k in range(result.ncontacts)]
-    energy = result.energy["kinetic"] + result.energy["strain"]
+    energies = {key: result.energy[key] for key in result.energy}
+    energy = energies["kinetic"] + energies["strain"] + energies.get("spring", 0.0)
     newton = result.solver["newton_iterations"][1:]
     linear = result.solver["linear_iterations"][1:]
     return {
@@ -56,7 +54,41 @@ def summarize(result):
         "newton_max": int(newton.max()) if newton.size else 0,
         "linear_mean": float(linear.mean()) if linear.size else 0.0,
         "wall_time": float(a.get("wall_time", np.nan)),
+        "energy": {key: float(val[-1]) for key, val in energies.items()},
+        "energy_initial": float(sum(energies[k][0] for k in
+                                    ("kinetic", "strain", "spring", "contact") if k in energies)),
     }
+
+
+def body_summary(result, name):
+    """A body's extent and its stress extremes: from the envelopes (every
+    slab) with where, and when at the kept rows."""
+    body = result.body(name)
+    x = body.x
+    out = {"name": name, "elements": x.size - 1, "x0": float(x[0]), "x1": float(x[-1])}
+    keys = body.keys()
+    if "stress_min" in keys:
+        mid = 0.5 * (x[1:] + x[:-1])
+        stress = body.stress
+        for kind, env, pick in (("compression", body.stress_min, np.argmin),
+                                ("tension", body.stress_max, np.argmax)):
+            e = int(pick(env))
+            row = int(pick(stress[:, e]))
+            out[kind] = (float(env[e]), float(mid[e]), float(result.time[row]))
+    return out
+
+
+def balance_lines(s):
+    """The energy balance at the last row: what came in, where it is."""
+    e = s["energy"]
+    if "numerical" not in e:
+        return []
+    held = " + ".join(f"{k} {e[k]:.4g}" for k in ("kinetic", "strain", "spring", "damping",
+                                                    "contact", "soil") if k in e)
+    budget = max(abs(s["energy_initial"]) + abs(e["external"]), 1e-300)
+    return [f"  energy balance: initial {s['energy_initial']:.4g} + external {e['external']:.4g}"
+            f" = {held} + numerical {e['numerical']:.4g} ({100 * e['numerical'] / budget:.3g} %"
+            " dissipated by the time discretisation)"]
 
 
 def format_summary(s, path):
@@ -66,8 +98,13 @@ def format_summary(s, path):
              f"  dt = {s['dt']:g}, {s['slabs_done']} of {s['slabs']} slabs to t = "
              f"{s['t_end']:g}, {s['kept']} kept times (every {s['every']})",
              "  bodies:"]
-    for name, ne, x0, x1 in s["bodies"]:
-        lines.append(f"    {name:<14} x = [{x0:g}, {x1:g}], {ne} elements")
+    for b in s["bodies"]:
+        lines.append(f"    {b['name']:<14} x = [{b['x0']:g}, {b['x1']:g}], {b['elements']} elements")
+        for kind in ("compression", "tension"):
+            if kind in b:
+                value, where, when = b[kind]
+                lines.append(f"      largest {kind} stress {value:.6g} at x = {where:.6g}, "
+                             f"t = {when:.6g}")
     if s["pairs"]:
         lines.append(f"  contact ({s['formulation']}):")
     for k, p in enumerate(s["pairs"]):
@@ -83,6 +120,7 @@ def format_summary(s, path):
     e0, e1 = s["energy_start"], s["energy_end"]
     rel = (e1 - e0) / e0 * 100 if e0 else float("nan")
     lines.append(f"  energy: start {e0:.6g}, end {e1:.6g} ({rel:+.3f} %)")
+    lines += balance_lines(s)
     lines.append(f"  Newton iterations per slab: mean {s['newton_mean']:.3g}, max "
                  f"{s['newton_max']}; linear solves per slab: mean {s['linear_mean']:.3g}")
     if not np.isnan(s["wall_time"]):
