@@ -11,7 +11,7 @@ import h5py
 import numpy as np
 
 import vstpetsc
-from vstpetsc import bundled
+from vstpetsc import analysis, bundled
 from vstpetsc.results.plot import plot_result
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -67,8 +67,55 @@ def _wave(f):
     return f"free-end displacement within {100 * dev:.2f} % of 1e-4 cos(pi c t / 2L)"
 
 
+def _site(f, result):
+    """Key numbers and the transfer-function figure of site-response."""
+    import matplotlib.pyplot as plt
+
+    case = result.case()
+    soil, base = case.bodies[0], case.bcs[0].params
+    c = float(np.sqrt(soil.E(0.0) / soil.rho(0.0)))
+    H = soil.x[1] - soil.x[0]
+    a = float(soil.rho(0.0)) * c / base["impedance"]
+    t = result.time
+    freq, ratio = analysis.transfer_function(t, result.body("soil").v[:, -1],
+                                             2 * base["incident"](t))
+    keep = freq <= 10.0
+    fig, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
+    ax.plot(freq[keep], ratio[keep], label="vstpetsc: smoothed spectral ratio surface / outcrop")
+    ax.plot(freq[keep], analysis.layer_amplification(freq[keep], H, c, a), "k--", lw=1,
+            label=f"closed form 1/sqrt(cos^2 kH + a^2 sin^2 kH), a = {a:.3f}")
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("amplification")
+    ax.set_title("site-response: surface velocity over rock-outcrop velocity")
+    ax.legend(fontsize=8)
+    fig.savefig(os.path.join(HERE, "figures", "site-response-transfer.png"), dpi=110)
+    plt.close(fig)
+    band = (freq > 1.0) & (freq < 2.5)
+    return (f"spectral ratio peaks at {freq[band][np.argmax(ratio[band])]:.3f} Hz (c/4H = "
+            f"{c / (4 * H):.3f} Hz) with {ratio[band].max():.2f} (1/a = {1 / a:.2f}, "
+            f"smoothed over 10 % of f); at c/2H it is "
+            f"{ratio[np.argmin(np.abs(freq - c / (2 * H)))]:.3f} (exact 1)\n\n"
+            "![site-response transfer function](figures/site-response-transfer.png)")
+
+
+def _uplift(f, result):
+    fl = analysis.flights(result.time, result.contact(0).impulse)
+    times = ", ".join(f"{1e3 * a:.1f}-{1e3 * b:.1f} ms" for a, b in fl)
+    return (f"first lift-off at {1e3 * fl[0][0]:.1f} ms (rigid-block estimate 121.5 ms); "
+            f"flights {times}")
+
+
+def _drop(f, result):
+    eps = analysis.episodes(result.time, result.contact(0).impulse)
+    return (f"first impact at {1e3 * eps[0][0]:.2f} ms (exact sqrt(2h/g) = 63.86 ms), "
+            f"second at {1e3 * eps[1][0]:.1f} ms (elastic estimate 63.86 + 127.7 + 1.3 = "
+            f"192.8 ms)")
+
+
 KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
-       "periodic-impacts": _periodic, "layered": _layered, "wave": _wave}
+       "periodic-impacts": _periodic, "layered": _layered, "wave": _wave,
+       "site-response": _site, "uplift": _uplift, "drop": _drop}
+NEEDS_RESULT = {"site-response", "uplift", "drop"}
 
 
 def main():
@@ -82,11 +129,12 @@ def main():
         for name in bundled.names():
             text = bundled.text(name)
             out = os.path.join(folder, name + ".h5")
-            res = vstpetsc.run(vstpetsc.Case.from_text(text), out, quiet=True,
-                               out=io.StringIO()).run
+            result = vstpetsc.run(vstpetsc.Case.from_toml(bundled.path(name)), out, quiet=True,
+                                  out=io.StringIO())
+            res = result.run
             plot_result(out, os.path.join(HERE, "figures", name + ".png"))
-            with h5py.File(out) as f:
-                key = KEY[name](f)
+            with h5py.File(out, "r", locking=False) as f:
+                key = KEY[name](f, result) if name in NEEDS_RESULT else KEY[name](f)
             story = [l[2:] if l.startswith("# ") else "" for l in text.splitlines()[2:]
                      if l.startswith("#")]
             lines += [f"## {name}", "", bundled.description(name).capitalize() + ".", ""]

@@ -23,10 +23,10 @@ def bar_wall(v0=1.0):
 
 @pytest.mark.parametrize("name", bundled.names())
 def test_to_toml_round_trip(name):
-    case = vstpetsc.Case.from_text(bundled.text(name))
-    again = vstpetsc.Case.from_text(case.to_toml())
+    case = vstpetsc.Case.from_toml(bundled.path(name))
+    again = vstpetsc.Case.from_text(case.to_toml(), folder=case.folder)
     assert again == case and again.to_toml() == case.to_toml()
-    assert vstpetsc.Case.from_dict(case.to_dict()) == case
+    assert vstpetsc.Case.from_dict(case.to_dict(), folder=case.folder) == case
     assert again.nslabs == case.nslabs and again.bodies == case.bodies
 
 

@@ -2,10 +2,13 @@
 bundled file, run to completion, and its physics against the exact solution
 computed from the case's own data (formulation.md section 7)."""
 
+import os
+
 import numpy as np
 import pytest
 
 import vstpetsc
+from vstpetsc import analysis
 from conftest import cli, solve
 from vstpetsc import bundled
 
@@ -21,6 +24,9 @@ def results(tmp_path_factory):
         assert p.returncode == 0, p.stderr
         assert path.read_text() == bundled.text(name)
         out[name] = solve(folder, vstpetsc.Case.from_toml(path), name=name)
+        for companion in bundled.companions(name):
+            assert (folder / os.path.basename(companion)).read_bytes() == \
+                open(companion, "rb").read()
     return out
 
 
@@ -38,7 +44,7 @@ def material(body):
 
 
 def case_of(r):
-    return vstpetsc.Case.from_text(r.attrs["case"])
+    return r.case()
 
 
 def test_example_list():
@@ -47,7 +53,7 @@ def test_example_list():
     listed = [line.split()[0] for line in p.stdout.splitlines()]
     assert listed == bundled.names()
     assert set(listed) >= {"bar-wall", "two-bars", "unequal-bars", "periodic-impacts",
-                           "layered", "wave"}
+                           "layered", "wave", "site-response", "uplift", "drop"}
     assert all(bundled.description(n) for n in listed)
 
 
@@ -149,6 +155,71 @@ def test_layered_interface_opens_and_closes(results):
     assert opened.size                                  # the interface opens
     assert np.any(F[opened[0]:] > 0)                    # and closes again
     assert r.contact(0).episodes[-1] >= 2
+
+
+def test_site_response_amplifies_at_the_layer_resonance(results):
+    """The surface-to-outcrop spectral ratio peaks at c / 4H and is 1 at
+    c / 2H (closed form 1 / sqrt(cos^2 kH + a^2 sin^2 kH))."""
+    r = results["site-response"]
+    case = case_of(r)
+    soil, base = case.bodies[0], case.bcs[0].params
+    c, z = material(soil)
+    H = soil.x[1] - soil.x[0]
+    t = r.time
+    outcrop = 2 * base["incident"](t)
+    f, ratio = analysis.transfer_function(t, r.body("soil").v[:, -1], outcrop)
+    band = (f > 0.5 * c / (4 * H)) & (f < 1.5 * c / (4 * H))
+    peak = f[band][np.argmax(ratio[band])]
+    half = np.argmin(np.abs(f - c / (2 * H)))
+    exact = analysis.layer_amplification(f[half], H, c, z / base["impedance"])
+    print(f"site response: peak at {peak:.3f} Hz (c/4H = {c / (4 * H):.3f}), ratio at c/2H "
+          f"{ratio[half]:.3f} (exact {exact:.3f})")
+    assert abs(peak / (c / (4 * H)) - 1) < 0.04
+    assert abs(ratio[half] / exact - 1) < 0.03
+    assert ratio[band].max() > 0.8 / (z / base["impedance"])
+    e = r.energy                       # the wave that came in went out again
+    assert e["kinetic"][-1] + e["strain"][-1] < 1e-3 * e["external"].max()
+
+
+def test_uplift_first_lift_off_as_a_rigid_block(results):
+    """The block first leaves when the base acceleration reaches -g."""
+    r = results["uplift"]
+    case = case_of(r)
+    base = [bc for bc in case.bcs if bc.type == "velocity"][0].params["value"]
+    acc = np.diff(base.f) / np.diff(base.t)
+    g = case.gravity.g(0.0)
+    t_rigid = base.t[:-1][np.argmax(acc <= g)]
+    flights = analysis.flights(r.time, r.contact(0).impulse)
+    kept = case.dt * case.every
+    print(f"uplift: first lift-off {flights[0][0]:.4f} s (rigid {t_rigid:.4f} s); "
+          f"flights {[(round(a, 4), round(b, 4)) for a, b in flights]}")
+    assert abs(flights[0][0] - t_rigid) <= 2 * kept + (base.t[1] - base.t[0])
+    assert flights[0][1] - flights[0][0] > 0.05            # a real flight, then a landing
+    assert r.contact(0).episodes[-1] >= 2
+
+
+def test_drop_falls_hits_and_bounces(results):
+    """Free fall from the gap h: impact at sqrt(2 h / g) with sqrt(2 g h),
+    force Z v during 2L/c, back up at nearly the same speed."""
+    r = results["drop"]
+    case = case_of(r)
+    body = case.bodies[0]
+    c, Z = material(body)
+    g = -case.gravity.g(0.0)
+    h = body.x[0] - case.contacts[0].wall
+    v_hit, t_hit = np.sqrt(2 * g * h), np.sqrt(2 * h / g)
+    eps = analysis.episodes(r.time, r.contact(0).impulse)
+    kept = case.dt * case.every
+    L = body.x[1] - body.x[0]
+    mass = body.rho(0.0) * body.area(0.0) * L
+    # the running total (over every slab) in the flight after the first bounce
+    first = r.contact(0).impulse_total[np.searchsorted(r.time, eps[1][0]) - 1]
+    print(f"drop: first contact {eps[0][0]:.5f} s (exact {t_hit:.5f}), impulse "
+          f"{first / (2 * mass * v_hit):.4f} of 2 m v; episodes {eps}")
+    assert abs(r.contact(0).first_contact[-1] - t_hit) <= 2 * case.dt
+    assert abs((eps[0][1] - eps[0][0]) - 2 * L / c) <= 2 * kept
+    assert abs(first / (2 * mass * v_hit) - 1) < 0.03     # the floor reverses the momentum
+    assert len(eps) >= 2
 
 
 def test_wave_vibrates_in_its_first_mode(results):

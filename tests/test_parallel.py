@@ -1,5 +1,6 @@
-"""Two MPI ranks give the one-rank result (to 1e-10 relative), whichever
-rank owns a contact pair's nodes; errors end every rank with one message."""
+"""Two MPI ranks give the one-rank result (bit for bit with the default
+solver, energy sums over ranks to rounding), whichever rank owns a contact
+pair's nodes; errors end every rank with one message."""
 
 import os
 import shutil
@@ -34,20 +35,29 @@ def datasets(result):
     return out
 
 
-def assert_same_result(one, two, rtol=1e-10):
+def assert_same_result(one, two, rtol=1e-10, exact=True):
+    """Every dataset within rtol of its largest value; with ``exact`` (the
+    default solver) the state, stresses and contact data bit for bit, and
+    only the energy terms summed over ranks may differ (by rounding)."""
     a, b = Result(one), Result(two)
     da, db = datasets(a), datasets(b)
     assert set(da) == set(db)
+    budget = max(np.abs(x).max() for k, x in da.items() if k.startswith("energy/"))
     for key, x in da.items():
         y = db[key]
         assert x.shape == y.shape, key
         if key == "solver/wall_time":
             continue
+        if exact and key.startswith(("body/", "contact/", "time")):
+            assert np.array_equal(x, y, equal_nan=True), key
+            continue
         if key.endswith("iterations"):
             assert np.abs(x - y).max() <= 1, key      # Newton may stop one step apart
             continue
         x, y = np.nan_to_num(x), np.nan_to_num(y)
-        scale = np.abs(x).max() or 1.0
+        # energy terms on the scale of the energy in play (numerical is a
+        # small difference of large sums)
+        scale = budget if key.startswith("energy/") else (np.abs(x).max() or 1.0)
         assert np.abs(x - y).max() <= rtol * scale, (key, np.abs(x - y).max() / scale)
     assert set(a.attrs) == set(b.attrs)
     for k in set(a.attrs) - VARYING_ATTRS:
@@ -63,7 +73,7 @@ def assert_same_result(one, two, rtol=1e-10):
 @pytest.mark.parametrize("name", bundled.names())
 def test_bundled_example_two_ranks_equal_one(tmp_path, name):
     case = tmp_path / f"{name}.toml"
-    case.write_text(bundled.text(name))
+    assert cli("example", name, "-o", case).returncode == 0       # with its companion files
     p1 = cli("run", case, "-o", tmp_path / "one.h5", "--quiet", "--every", "4")
     assert p1.returncode == 0, p1.stderr
     p2 = mpirun("run", case, "-o", tmp_path / "two.h5", "--quiet", "--every", "4")
@@ -150,7 +160,7 @@ def test_petsc_options_reach_both_ranks(tmp_path):
     assert p.returncode == 0, p.stderr
     assert "type: gmres" in p.stdout and "type: bjacobi" in p.stdout
     assert "number of blocks = 2" in p.stdout and "SNES Function norm" in p.stdout
-    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
+    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5", exact=False)
 
 
 def test_python_api_under_mpirun(tmp_path):
@@ -165,5 +175,5 @@ def test_python_api_under_mpirun(tmp_path):
     assert cli("run", case, "-o", tmp_path / "one.h5", "--quiet").returncode == 0
     p = mpirun(script, case, tmp_path / "two.h5", program=sys.executable)
     assert p.returncode == 0, p.stderr
-    assert p.stdout.count("ranks 2 slabs 250") == 2
+    assert p.stdout.count("slabs 250") == 2 and p.stdout.count("ranks") == 2   # lines may interleave
     assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")

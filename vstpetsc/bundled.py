@@ -26,6 +26,13 @@ def text(name):
         return f.read()
 
 
+def companions(name):
+    """Paths of the files a bundled case reads (``NAME-*.csv`` beside it)."""
+    path(name)
+    return sorted(os.path.join(FOLDER, f) for f in os.listdir(FOLDER)
+                  if f.startswith(name + "-") and f.endswith(".csv"))
+
+
 def description(name):
     """The one-line description from the file's first line."""
     first = text(name).splitlines()[0]

@@ -6,6 +6,7 @@ stderr, no traceback), 3 failed solve (result file kept, status "failed"),
 """
 
 import os
+import shutil
 import sys
 
 USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [--dry-run]
@@ -221,14 +222,21 @@ def _example(rest):
         raise UsageError(f"example: unknown name {opts['name']!r} (bundled: "
                          f"{', '.join(bundled.names())})") from None
     out = opts["output"] or f"{opts['name']}.toml"
-    if opts["output"] is None and os.path.exists(out):
-        raise UsageError(f"example: {out} exists; give -o {out} to overwrite it")
+    folder = os.path.dirname(os.path.abspath(out))
+    extra = [(p, os.path.join(folder, os.path.basename(p))) for p in bundled.companions(opts["name"])]
+    if opts["output"] is None:
+        for target in [out] + [t for _, t in extra]:
+            if os.path.exists(target):
+                raise UsageError(f"example: {target} exists; give -o {out} to overwrite it")
     problem = output_problem(out)
     if problem:
         raise UsageError(f"-o: {problem}")
     with open(out, "w") as f:
         f.write(text)
-    print(f"wrote {out}; run it with: vstpetsc run {out}")
+    for source, target in extra:
+        shutil.copyfile(source, target)
+    also = "".join(f" and {os.path.basename(t)}" for _, t in extra)
+    print(f"wrote {out}{also}; run it with: vstpetsc run {out}")
     return 0
 
 

@@ -172,7 +172,7 @@ class TimeLoop:
     def _attrs(self, petsc_options):
         """The root attributes of the result file."""
         case = self.case
-        return {"case": case.text, "petsc_options": petsc_options,
+        return {"case": case.text, "case_folder": case.folder, "petsc_options": petsc_options,
                 "mpi_size": self.comm.getSize(), "formulation": layout.formulation(self.model),
                 "dt": case.dt, "slabs": case.nslabs, "every": case.every,
                 **{f"unit_{k}": v for k, v in case.units.items()},

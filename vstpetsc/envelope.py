@@ -1,8 +1,12 @@
 """Stress envelopes: the smallest and largest stress E du/dx of every
 element over every slab end (t = 0 included).  Each rank keeps the elements
 whose left node it owns; the right node of its last one may be the next
-rank's (a ghost value the solver keeps).  Four vector passes a slab, with
-buffers allocated once.  Pure numpy."""
+rank's (a ghost value the solver keeps).
+
+E / h > 0 does not change in time, so the envelopes of the elongation
+u_{i+1} - u_i times E / h are those of the stress, bit for bit (rounding is
+monotonic): three vector passes a slab, with buffers allocated once, and
+the factor applied when the envelopes are read.  Pure numpy."""
 
 import numpy as np
 
@@ -28,29 +32,29 @@ class StressEnvelope:
         self.ext = np.empty(n1 - n0 + 1) if self.ghost else None
         self.lo = self.hi = None
 
-    def stress(self, u, ghost=0.0):
-        """Stress of the local node pairs for the owned displacements u."""
+    def elongation(self, u, ghost=0.0):
+        """u_{i+1} - u_i of the local node pairs for the owned u."""
         if self.ghost:
             self.ext[:-1] = u
             self.ext[-1] = ghost
             u = self.ext
         np.subtract(u[1:], u[:-1], out=self.buf)
-        np.multiply(self.buf, self.factor, out=self.buf)
         return self.buf
 
     def start(self, u, ghost=0.0, restored=None):
-        """Begin with the stress of u (or continue ``restored`` (lo, hi) of
-        the local elements, from a result file)."""
-        s = self.stress(u, ghost)
-        self.lo, self.hi = s.copy(), s.copy()
+        """Begin with u (or continue ``restored`` elongation envelopes
+        (lo, hi) of the local elements, from a result file)."""
+        d = self.elongation(u, ghost)
+        self.lo, self.hi = d.copy(), d.copy()
         if restored is not None:
             self.lo[self.pair], self.hi[self.pair] = restored
 
     def update(self, u, ghost=0.0):
-        s = self.stress(u, ghost)
-        np.minimum(self.lo, s, out=self.lo)
-        np.maximum(self.hi, s, out=self.hi)
+        d = self.elongation(u, ghost)
+        np.minimum(self.lo, d, out=self.lo)
+        np.maximum(self.hi, d, out=self.hi)
 
     def local(self):
-        """(global element numbers, lo, hi) of the local elements."""
+        """(global element numbers, elongation lo, hi) of the local elements;
+        times E / h they are the stress envelopes."""
         return self.elements, self.lo[self.pair], self.hi[self.pair]

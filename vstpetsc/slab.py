@@ -57,6 +57,23 @@ def rhs_operator(ops, dt, w=np.eye(2)):
     return node_blocks(ops, m=w @ RM, k=dt * w @ RK)
 
 
+def apply_blocks(blocks, y, n0, n1):
+    """Rows n0..n1-1 of the block band ``blocks`` times ``y`` (N, 2): each
+    row sums its six products left to right with separately rounded
+    multiplications and additions (elementwise ufuncs; einsum may fuse
+    them, differently for different array offsets), so every rank of a run
+    computes its rows exactly as one rank would."""
+    pad = np.zeros((1, 2))
+    ext = np.concatenate([pad, y, pad])                # ext[i + 1] = y[i]
+    out = np.zeros((n1 - n0, 2))
+    for j in range(3):                                 # the neighbours i-1, i, i+1
+        yj = ext[n0 + j:n1 + j]
+        for a in range(2):
+            for b in range(2):
+                out[:, a] += blocks[n0:n1, j, a, b] * yj[:, b]
+    return out
+
+
 def impose_dirichlet(blocks, dofs, diagonal):
     """Zero the rows of ``dofs`` (global dof numbers); put ``diagonal`` on
     their diagonal.  Returns a modified copy."""

@@ -23,7 +23,7 @@ from vstpetsc.lawset import LawSet
 from vstpetsc.loading import SlabLoads
 from vstpetsc.petsc.fields import FieldTerms
 from vstpetsc.petsc.linear import LinearSolver, reason_name
-from vstpetsc.petsc.matrices import block_matrix, increment_matrix
+from vstpetsc.petsc.matrices import Increment, block_matrix
 from vstpetsc.petsc.newton import Condensed, Coupling, Full
 from vstpetsc.petsc.reactions import Reactions
 from vstpetsc.petsc.space import DofGather, Space
@@ -56,11 +56,11 @@ class SlabSolver:
         fixed = (2 * loads.fixed_nodes[:, None] + np.arange(2)).ravel()
         self.A = block_matrix(slab.impose_dirichlet(slab.slab_matrix(ops, dt, self.W, self.V),
                                                     fixed, 1.0), nodes, comm, options.mat_type)
-        self.R = block_matrix(slab.rhs_operator(ops, dt, self.W), nodes, comm, options.mat_type)
-        self.G = increment_matrix(ops, dt, nodes, comm)
+        self.ops = ops
         self.Y = self.space.vector()    # (u, v) per node, for input and output
         self.X = self.space.vector()    # slab unknowns z per node
         self.b = self.X.duplicate()     # W r: the running right-hand side
+        self.G = Increment(ops, dt, self.space, self.b)
         self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
         self._loads = None              # (local dofs, -W T f, f) of the open slab
         self.linear = LinearSolver(self.A, comm)
@@ -107,7 +107,6 @@ class SlabSolver:
             self._loads = (idx, -(per[own] @ self.WT.T).ravel(), per[own])   # for advance()
         if len(fields):
             self.fields.add(self.b, fields)
-            arr = self.b.getArray()
         nodes, vals = velocities
         if nodes.size:
             if self.reactions is not None:
@@ -162,7 +161,7 @@ class SlabSolver:
         arr = self.b.getArray()
         if self.reactions is not None:
             self.reactions.carry(arr)
-        self.G.multAdd(self.X, self.b, self.b)
+        self.G.add_to(self.X, self.b)
         arr = self.b.getArray()
         if self._loads is not None:
             arr[self._loads[0]] += self._loads[1]
@@ -180,8 +179,8 @@ class SlabSolver:
         """Dashpots and external forces over the slab (the laws' share is
         summed in _solve_laws)."""
         self.work["damping"] += self.damping(self.X)
-        self.work["external"] += self.fields.work(self.X)
         x = self.X.getArray(readonly=True)
+        self.local_work += self.fields.work(x)
         if self._loads is not None:
             idx, _, per = self._loads
             self.local_work += float(np.sum(per * (x[idx].reshape(-1, 2) @ self.V.T)))
@@ -196,12 +195,12 @@ class SlabSolver:
 
     def set_state(self, u, v, envelope=None):
         """Start from displacements u and velocities v (global node arrays):
-        b = W R (u, v) plus the constant body forces; ``envelope`` (lo, hi)
-        of every element continues a restart's envelopes."""
+        b = W R (u, v) (every row in the same order on any number of ranks)
+        plus the constant body forces; ``envelope`` (lo, hi) of every
+        element continues a restart's envelopes."""
         n0, n1 = self.space.nodes
-        y = self.Y.getArray().reshape(-1, 2)
-        y[:, 0], y[:, 1] = u[n0:n1], v[n0:n1]
-        self.R.mult(self.Y, self.b)
+        R = slab.rhs_operator(self.ops, self.dt, self.W)
+        self.b.getArray()[:] = slab.apply_blocks(R, np.column_stack([u, v]), n0, n1).ravel()
         self.fields.fold(self.b)
         self.u[:] = u[n0:n1]
         self._loads = None
@@ -232,5 +231,6 @@ class SlabSolver:
         return self.space.to_rank0(self.b)
 
     def envelopes(self, nelements):
-        """(lo, hi) of every element on rank 0 (None elsewhere)."""
+        """Elongation envelopes (lo, hi) of every element on rank 0 (None
+        elsewhere)."""
         return self.space.assemble_on_rank0(nelements, *self.envelope.local())

@@ -20,6 +20,7 @@ BODY = "body"
 CONTACT = "contact"
 ENERGY = tuple(f"energy/{k}" for k in energy_mod.KEYS)
 ENVELOPES = ("stress_min", "stress_max")
+ELONGATION = ("solver/elongation_min", "solver/elongation_max")   # the envelopes' exact state
 SOLVER = ("solver/newton_iterations", "solver/linear_iterations", "solver/wall_time",
           "solver/slab")
 INTEGER_SERIES = ("solver/newton_iterations", "solver/linear_iterations", "solver/slab")
@@ -64,23 +65,23 @@ def formulation(model):
 
 
 def envelope_snapshots(model, lo, hi):
-    """{dataset name: array} of the stress envelopes (all elements)."""
-    out = {}
+    """{dataset name: array}: the stress envelopes of every body from the
+    elongation envelopes (lo, hi) of all elements, and those."""
+    factor = model.mesh.E / model.mesh.h
+    out = {ELONGATION[0]: lo, ELONGATION[1]: hi}
     for b, body in enumerate(model.case.bodies):
         el = model.mesh.elements(b)
-        out[body_path(body.name, "stress_min")] = lo[el]
-        out[body_path(body.name, "stress_max")] = hi[el]
+        out[body_path(body.name, "stress_min")] = lo[el] * factor[el]
+        out[body_path(body.name, "stress_max")] = hi[el] * factor[el]
     return out
 
 
 def read_envelopes(f, model):
-    """(lo, hi) of all elements from an open result file (None if absent)."""
-    names = [body_path(b.name, e) for b in model.case.bodies for e in ENVELOPES]
-    if not all(n in f for n in names):
+    """The elongation envelopes (lo, hi) of all elements from an open
+    result file (None if absent)."""
+    if not all(n in f for n in ELONGATION):
         return None
-    lo = np.concatenate([f[body_path(b.name, "stress_min")][...] for b in model.case.bodies])
-    hi = np.concatenate([f[body_path(b.name, "stress_max")][...] for b in model.case.bodies])
-    return lo, hi
+    return f[ELONGATION[0]][...], f[ELONGATION[1]][...]
 
 
 def row(model, k, dt, u, v, its, wall, energy):

@@ -92,11 +92,19 @@ def contact_panel(ax, r, u):
 
 
 def energy_panel(ax, r, u):
-    """(c) kinetic, strain and total energy."""
-    t, kin, strain = r.time, r.energy["kinetic"], r.energy["strain"]
+    """(c) the energy balance: kinetic, strain (+ springs), and the sums of
+    external work, dashpot work and numerical dissipation where not zero."""
+    t, e = r.time, r.energy
+    names = set(e.keys())
+    kin, strain = e["kinetic"], e["strain"]
+    if "spring" in names and np.abs(e["spring"]).max() > 0:
+        strain = strain + e["spring"]
     ax.plot(t, kin, label="kinetic")
     ax.plot(t, strain, label="strain")
     ax.plot(t, kin + strain, "k", lw=1.5, label="total")
+    for key, style in (("external", "--"), ("damping", ":"), ("numerical", "-.")):
+        if key in names and np.abs(e[key]).max() > 0:
+            ax.plot(t, e[key], style, label=f"{key} (summed)")
     ax.set_xlabel(f"t [{u['time']}]")
     ax.set_ylabel(f"energy [{u['energy']}]")
     ax.set_title("(c) energy")

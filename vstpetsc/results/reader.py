@@ -121,6 +121,13 @@ class Result:
         """{name: array} of the solver datasets (iterations, wall time, slab)."""
         return Group(self, "solver")
 
+    def case(self):
+        """The Case that produced the file (its text; relative file names
+        refer to the folder the case was read from)."""
+        from vstpetsc.case import Case
+        a = self.attrs
+        return Case.from_text(a["case"], source=f"{self.path}:case", folder=a.get("case_folder"))
+
     def summary(self):
         """The dict that `vstpetsc info` prints."""
         from vstpetsc.results.summary import summarize

@@ -1,0 +1,59 @@
+"""Write the records that bundled examples read (vstpetsc/examples/*.csv).
+
+site-response-motion.csv: a synthetic rock-outcrop acceleration, not a
+recorded earthquake: band-limited random velocity (0.3 to 12 Hz, fixed
+seed) under a smooth envelope that starts and ends at rest, scaled to a peak
+acceleration of 1 m/s^2 (about 0.1 g), differentiated into an acceleration
+sampled at 200 Hz for 16 s.  Its trapezoidal integral (what `integrate =
+true` computes) returns to rest at the end.
+
+uplift-base.csv: the base velocity of the uplift example, 0.5 (1 - cos(2 pi 5
+t)) m/s for two cycles, then at rest, sampled at 2 kHz (its acceleration
+0.5 w sin(w t) starts from zero).
+
+    python docs/make_example_records.py
+"""
+
+import os
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+FOLDER = os.path.join(HERE, "..", "vstpetsc", "examples")
+DT, DURATION, BAND, PEAK = 0.005, 16.0, (0.3, 12.0), 1.0
+
+
+def record(seed=20261123):
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, DURATION + DT / 2, DT)
+    spectrum = np.fft.rfft(rng.normal(size=t.size))
+    f = np.fft.rfftfreq(t.size, DT)
+    spectrum[(f < BAND[0]) | (f > BAND[1])] = 0.0
+    velocity = np.fft.irfft(spectrum, t.size)
+    envelope = np.sin(np.pi * t / DURATION) ** 2 * np.exp(-((t - 5.0) / 4.0) ** 2)
+    velocity *= envelope
+    acc = np.gradient(velocity, DT)
+    acc *= PEAK / np.abs(acc).max()
+    # trapezoidal integral from 0 ends at rest: remove its mean slope
+    v = np.concatenate(([0.0], np.cumsum(0.5 * (acc[1:] + acc[:-1]) * DT)))
+    acc -= v[-1] / DURATION
+    return t, acc
+
+
+def write(name, header, t, values):
+    path = os.path.join(FOLDER, name)
+    with open(path, "w") as out:
+        out.write(header + "\n")
+        out.writelines(f"{a:.4f},{b:.6e}\n" for a, b in zip(t, values))
+    print(f"wrote {path}: {t.size} samples, peak {np.abs(values).max():.4g}")
+
+
+def main():
+    write("site-response-motion.csv", "time,acc", *record())
+    t = np.arange(0.0, 0.45 + 1e-9, 0.0005)
+    write("uplift-base.csv", "time,velocity", t,
+          np.where(t <= 0.4, 0.5 * (1 - np.cos(2 * np.pi * 5 * t)), 0.0))
+
+
+if __name__ == "__main__":
+    main()
