@@ -167,7 +167,7 @@ def test_assembled_jacobian_matches_finite_differences(form):
     Newton), in a penetrating state of a bar pair and a wall pair."""
     s = two_pair_solver(form, newton="full")
     s.solve(1)
-    f = s.newton
+    f = s.nonlinear.newton
     # a state inside the active region (the converged one), perturbed
     X = s.X.copy()
     X.array += 0.01 * np.random.default_rng(1).normal(size=X.array.size)
@@ -220,8 +220,8 @@ def full_residual(s):
     F = s.X.duplicate()
     s.A.mult(s.X, F)
     F.axpy(-1.0, s.b)
-    c, _ = s.laws.residual(s.coupling.velocities(s.X))
-    s.coupling.gather.add_rows(F, s.coupling.WE @ c)
+    c, _ = s.laws.residual(s.nonlinear.coupling.velocities(s.X))
+    s.nonlinear.coupling.gather.add_rows(F, s.nonlinear.coupling.WE @ c)
     return F
 
 
@@ -231,8 +231,8 @@ def test_condensed_jacobian_matches_finite_differences(form):
     s = two_pair_solver(form)
     newton, _ = s.solve(1)
     assert newton > 0
-    c = s.newton
-    sv = s.coupling.velocities(s.X) + 0.01 * np.random.default_rng(2).normal(size=c.k)
+    c = s.nonlinear.newton
+    sv = s.nonlinear.coupling.velocities(s.X) + 0.01 * np.random.default_rng(2).normal(size=c.k)
     X = PETSc.Vec().createSeq(c.k)
     X.array = sv
     c.formJacobian(c.snes, X, None, None)

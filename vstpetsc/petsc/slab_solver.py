@@ -14,17 +14,15 @@ The slab's energy terms (docs/loads.md section 4) are summed as it closes.
 """
 
 import numpy as np
-from petsc4py import PETSc
 
 from vstpetsc import slab
 from vstpetsc.envelope import StressEnvelope
 from vstpetsc.errors import SolveFailed
-from vstpetsc.lawset import LawSet
 from vstpetsc.loading import SlabLoads
 from vstpetsc.petsc.fields import FieldTerms
-from vstpetsc.petsc.linear import LinearSolver, reason_name
+from vstpetsc.petsc.law_solver import LawSolver
+from vstpetsc.petsc.linear import LinearSolver
 from vstpetsc.petsc.matrices import Increment, block_matrix
-from vstpetsc.petsc.newton import Condensed, Coupling, Full
 from vstpetsc.petsc.reactions import Reactions
 from vstpetsc.petsc.space import DofGather, Space
 from vstpetsc.petsc.work import DampingWork
@@ -71,25 +69,15 @@ class SlabSolver:
         self.envelope = StressEnvelope(model.mesh, nodes)
         self.ghost = DofGather(self.X, [2 * n1 + 1] if self.envelope.ghost else [], nodes)
         self.u_ghost = 0.0
-        self._setup_laws(model, options)
-        self.work = {"damping": 0.0, "external": 0.0, "contact": 0.0}    # sums on every rank
+        self.nonlinear = LawSolver(model, options, self)
+        self.laws = self.nonlinear.laws
+        self.work = {"damping": 0.0}       # sums, the same on every rank
         self.local_work = 0.0          # this rank's share of the external work
 
-    def _setup_laws(self, model, options):
-        self.laws = LawSet(model.nonlinear)
-        self.newton = None
-        if self.laws.size:
-            comm = self.space.comm
-            self.coupling = Coupling(self.laws, self.X, self.space.nodes, self.W, self.V,
-                                     self.linear)
-            self.newton = Condensed(self.coupling, options.fd_jacobian, comm.getRank()) \
-                if options.newton == "condensed" else \
-                Full(self.coupling, options.fd_jacobian, self.A, self.linear, self.space)
-        self.law_rhs = np.zeros(self.laws.size)   # W r_laws of the last slab
-
     def describe(self):
-        newton = f"; Newton: SNES {self.newton.snes.getType()}" if self.newton else ""
-        return self.linear.describe() + newton
+        newton = self.nonlinear.newton
+        return self.linear.describe() + (f"; Newton: SNES {newton.snes.getType()}"
+                                         if newton else "")
 
     def rhs(self, forces, velocities, fields):
         """Add the slab's nodal force integrals and body forces to the
@@ -120,32 +108,11 @@ class SlabSolver:
         count = self.linear.count
         self.linear.solve(self.b, self.X, slab_index)
         newton = 0
-        if self.newton is not None:
-            newton = self._solve_laws(slab_index)
+        if self.nonlinear.active:
+            newton = self.nonlinear.solve(self.X, self.b, self.dt, slab_index)
         if not self.linear.finite(self.X):
             raise SolveFailed(f"slab {slab_index}: the solution is not finite")
         return newton, self.linear.count - count
-
-    def _solve_laws(self, slab_index):
-        """Newton if a law is active for the law-free solution X; the laws'
-        residual at the solution goes into the running sum."""
-        self.laws.start_slab(self.dt)
-        _, active = self.laws.residual(self.coupling.velocities(self.X))
-        self.law_rhs[:] = 0.0
-        if not active:
-            return 0
-        self.newton.solve(self.X, self.b)
-        snes = self.newton.snes
-        reason = snes.getConvergedReason()
-        if reason <= 0:
-            raise SolveFailed(f"slab {slab_index}: SNES did not converge "
-                              f"({reason_name(PETSc.SNES.ConvergedReason, reason)}"
-                              f" after {snes.getIterationNumber()} Newton iterations)")
-        s = self.coupling.velocities(self.X)
-        c, _ = self.laws.residual(s)
-        self.law_rhs[:] = self.coupling.WE @ c
-        self.work["contact"] += float(c @ s)        # the laws took c . v
-        return snes.getIterationNumber()
 
     def advance(self):
         """Close the slab: its energy terms, b += G z (the running sum)
@@ -169,11 +136,8 @@ class SlabSolver:
         self.fields.carry(self.b)
         if self.reactions is not None:
             self.reactions.carry_after(self.b.getArray())
-        if self.newton is not None:
-            self.laws.u += self.coupling.gather(self.X)[1::2]
-            if self.law_rhs.any():
-                corr = (self.law_rhs.reshape(-1, 2) @ self.carry.T).ravel()
-                self.coupling.gather.add_rows(self.b, corr)
+        if self.nonlinear.active:
+            self.nonlinear.advance(self.X, self.b, self.carry)
 
     def _slab_work(self):
         """Dashpots and external forces over the slab (the laws' share is
@@ -190,8 +154,8 @@ class SlabSolver:
 
     def totals(self):
         """The summed energy terms over every rank (collective)."""
-        return {**self.work,
-                "external": self.work["external"] + self.space.sum_over_ranks(self.local_work)}
+        return {**self.work, "contact": self.nonlinear.work,
+                "external": self.space.sum_over_ranks(self.local_work)}
 
     def set_state(self, u, v, envelope=None):
         """Start from displacements u and velocities v (global node arrays):
@@ -204,7 +168,7 @@ class SlabSolver:
         self.fields.fold(self.b)
         self.u[:] = u[n0:n1]
         self._loads = None
-        self.laws.u[:] = u[self.laws.nodes]
+        self.nonlinear.set_state(u)
         self.u_ghost = float(u[n1]) if self.envelope.ghost else 0.0
         el = self.envelope.elements
         restored = None if envelope is None else (envelope[0][el], envelope[1][el])
