@@ -101,7 +101,7 @@ def test_run_outside_the_main_thread(tmp_path):
 
 
 def test_failure_raises_and_keeps_the_file(tmp_path):
-    with pytest.raises(vstpetsc.SolveFailed, match=r"slab \d+: SNES did not converge"):
+    with pytest.raises(vstpetsc.SolveFailed, match=r"slab \d+: Newton did not converge"):
         solve(tmp_path, bar_wall(), name="f", options=["-snes_max_it", "1",
                                                         "-snes_rtol", "1e-15"])
     failed = vstpetsc.Result(tmp_path / "f.h5")

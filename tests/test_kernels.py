@@ -1,5 +1,7 @@
 """The numpy kernels, checked without PETSc."""
 
+import math
+
 import numpy as np
 import pytest
 from scipy import integrate
@@ -7,7 +9,7 @@ from scipy import integrate
 from conftest import bar, make_case
 from vstpetsc import slab
 from vstpetsc.history import History
-from vstpetsc.laws.gap import contact_integrals, gap_coefficients, gap_roots
+from vstpetsc.laws.gap import closed_on_slab, gap_coefficients, pair_integrals, roots01
 from vstpetsc.model import band_mult, build_model, dense
 
 
@@ -71,20 +73,19 @@ def test_time_matrices_from_shape_functions():
     ((-1.0, 0.0, 0.0), []),               # constant
     ((1e-12, -1.0, 1e-14), [1e-12]),      # cancellation-prone
 ])
-def test_gap_roots(coef, expected):
-    r = gap_roots(*coef)[0]
-    got = r[r < 1.0]
+def test_roots01(coef, expected):
+    got = roots01(*coef)
+    assert len(got) == len(expected)
     assert np.allclose(got, expected, rtol=1e-10, atol=0)
 
 
-def _quad_reference(gn, d1, d2, dt, form):
+def _quad_reference(gn, d1, d2, dt, power):
     a0, a1, a2 = gap_coefficients(gn, d1, d2, dt)
     g = lambda s: a0 + a1 * s + a2 * s * s
     I = [lambda s: dt * (s - s * s / 2), lambda s: dt * s * s / 2]
     T = [lambda s: 1 - s, lambda s: s]
-    phi = T if form == "power" else I
-    opts = dict(points=[r for r in gap_roots(a0, a1, a2)[0] if r < 1], limit=200,
-                epsabs=0, epsrel=1e-13)
+    phi = T if power else I
+    opts = dict(points=list(roots01(a0, a1, a2)) or None, limit=200, epsabs=0, epsrel=1e-13)
     G = [dt * integrate.quad(lambda s: min(0.0, g(s)) * phi[a](s), 0, 1, **opts)[0]
          for a in range(2)]
     W = [[dt * integrate.quad(lambda s: (g(s) < 0) * phi[a](s) * I[b](s), 0, 1,
@@ -92,45 +93,57 @@ def _quad_reference(gn, d1, d2, dt, form):
     return np.array(G), np.array(W)
 
 
-@pytest.mark.parametrize("form", ["seed", "power"])
-def test_contact_integrals_exact_and_tangent_matches_finite_differences(form, rng):
+def _integrals(gn, d1, d2, dt, power):
+    """(G, W) as arrays, zeros when the pair stays open."""
+    out = pair_integrals(gn, d1, d2, dt, power)
+    if out is None:
+        return np.zeros(2), np.zeros((2, 2))
+    return np.array(out[:2]), np.array(out[2:]).reshape(2, 2)
+
+
+@pytest.mark.parametrize("power", [False, True])
+def test_pair_integrals_exact_and_tangent_matches_finite_differences(power, rng):
     dt = 0.1
     for _ in range(40):
         gn = rng.uniform(-0.05, 0.05)
         d1, d2 = rng.uniform(-1, 1, size=2)
-        G, W, active = contact_integrals([gn], [d1], [d2], dt, [form])
-        Gr, Wr = _quad_reference(gn, d1, d2, dt, form)
-        assert np.allclose(G[0], Gr, rtol=1e-9, atol=1e-15)
-        assert np.allclose(W[0], Wr, rtol=1e-8, atol=1e-15)
-        assert active[0] == bool(np.any(G[0] != 0))
+        G, W = _integrals(gn, d1, d2, dt, power)
+        Gr, Wr = _quad_reference(gn, d1, d2, dt, power)
+        assert np.allclose(G, Gr, rtol=1e-9, atol=1e-15)
+        assert np.allclose(W, Wr, rtol=1e-8, atol=1e-15)
+        closed = pair_integrals(gn, d1, d2, dt, power) is not None
+        assert closed == closed_on_slab(gn, d1, d2, dt) == bool(np.any(Gr != 0))
         # W = -dG/dd: central differences
         h = 1e-7
         for b in range(2):
             dp, dm = np.array([d1, d2]), np.array([d1, d2])
             dp[b] += h
             dm[b] -= h
-            fd = (contact_integrals([gn], [dp[0]], [dp[1]], dt, [form])[0][0]
-                  - contact_integrals([gn], [dm[0]], [dm[1]], dt, [form])[0][0]) / (2 * h)
-            assert np.allclose(-fd, W[0][:, b], rtol=1e-5, atol=1e-12)
+            fd = (_integrals(gn, *dp, dt, power)[0] - _integrals(gn, *dm, dt, power)[0]) / (2 * h)
+            assert np.allclose(-fd, W[:, b], rtol=1e-5, atol=1e-12)
 
 
-def test_contact_integrals_vectorised_over_pairs(rng):
-    gn, d1, d2 = rng.uniform(-0.05, 0.05, 7), rng.uniform(-1, 1, 7), rng.uniform(-1, 1, 7)
-    forms = ["seed", "power", "seed", "power", "power", "seed", "seed"]
-    G, W, active = contact_integrals(gn, d1, d2, 0.1, forms)
-    for p in range(7):
-        Gp, Wp, ap = contact_integrals(gn[p:p + 1], d1[p:p + 1], d2[p:p + 1], 0.1, forms[p:p + 1])
-        assert np.allclose(G[p], Gp[0]) and np.allclose(W[p], Wp[0]) and active[p] == ap[0]
+def test_barely_closed_pair_is_integrated_accurately():
+    # g dips below zero by 1e-9 around its vertex t*: there
+    # g = a2 (t - t*)^2 - m on |t - t*| < w = sqrt(m / a2), and
+    # int min(0, g) dt = -4/3 m w dt, times phi(t*) up to O(w^2)
+    dt, d1, d2, m = 0.1, 1.0, -1.0, 1e-9
+    a1, a2 = -dt * d1, 0.5 * dt * (d1 - d2)
+    gn = a1 * a1 / (4 * a2) - m
+    t = -a1 / (2 * a2)
+    G, _ = _integrals(gn, d1, d2, dt, True)
+    expected = -4.0 / 3.0 * m * math.sqrt(m / a2) * dt * np.array([1 - t, t])
+    assert np.allclose(G, expected, rtol=1e-6, atol=0)
 
 
 def test_power_impulse_is_time_integral_of_force():
     # sum_a T_a = 1: the power variant's impulse is exactly int k max(0, -g) dt
     dt, gn, d1, d2 = 0.2, 0.01, 0.3, -0.1
-    G, _, _ = contact_integrals([gn], [d1], [d2], dt, ["power"])
+    G, _ = _integrals(gn, d1, d2, dt, True)
     a0, a1, a2 = gap_coefficients(gn, d1, d2, dt)
     ref = dt * integrate.quad(lambda s: min(0.0, a0 + a1 * s + a2 * s * s), 0, 1,
-                              points=[r for r in gap_roots(a0, a1, a2)[0] if r < 1])[0]
-    assert np.isclose(G[0].sum(), ref, rtol=1e-12)
+                              points=list(roots01(a0, a1, a2)))[0]
+    assert np.isclose(G.sum(), ref, rtol=1e-12)
 
 
 def test_history_hat_integrals_exact():

@@ -240,14 +240,14 @@ def jump_energy(case):
     from vstpetsc.petsc.slab_solver import SlabSolver
 
     model = build_model(case)
-    loads = SlabLoads(model.laws)
+    loads = SlabLoads(model.laws, case.dt)
     s = SlabSolver(model, case.dt, PETSc.COMM_SELF, SolverOptions(), loads)
     u, v = initial_state(model)
     s.set_state(u, v)
     total, jumps = 0.0, [0.0]
     for k in range(1, case.nslabs + 1):
         t0 = (k - 1) * case.dt
-        s.rhs(*loads(t0, t0 + case.dt))
+        s.rhs(*loads.slab(k))
         s.solve(k)
         s.laws.finish_slab(t0, case.dt)
         z = s.X.getArray(readonly=True).reshape(-1, 2)

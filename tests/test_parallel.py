@@ -35,10 +35,12 @@ def datasets(result):
     return out
 
 
-def assert_same_result(one, two, rtol=1e-10, exact=True):
+def assert_same_result(one, two, rtol=1e-10, exact=True, same_newton=True):
     """Every dataset within rtol of its largest value; with ``exact`` (the
     default solver) the state, stresses and contact data bit for bit, and
-    only the energy terms summed over ranks may differ (by rounding)."""
+    only the energy terms summed over ranks may differ (by rounding).
+    Newton iteration counts agree within one unless ``same_newton`` is
+    False (two different Newton methods)."""
     a, b = Result(one), Result(two)
     da, db = datasets(a), datasets(b)
     assert set(da) == set(db)
@@ -52,7 +54,8 @@ def assert_same_result(one, two, rtol=1e-10, exact=True):
             assert np.array_equal(x, y, equal_nan=True), key
             continue
         if key.endswith("iterations"):
-            assert np.abs(x - y).max() <= 1, key      # Newton may stop one step apart
+            # Newton may stop one step apart
+            assert not same_newton or np.abs(x - y).max() <= 1, key
             continue
         x, y = np.nan_to_num(x), np.nan_to_num(y)
         # energy terms on the scale of the energy in play (numerical is a
@@ -60,7 +63,7 @@ def assert_same_result(one, two, rtol=1e-10, exact=True):
         scale = budget if key.startswith("energy/") else (np.abs(x).max() or 1.0)
         assert np.abs(x - y).max() <= rtol * scale, (key, np.abs(x - y).max() / scale)
     assert set(a.attrs) == set(b.attrs)
-    for k in set(a.attrs) - VARYING_ATTRS:
+    for k in set(a.attrs) - VARYING_ATTRS - (set() if same_newton else {"solver"}):
         assert a.attrs[k] == b.attrs[k], k
     assert a.attrs["mpi_size"] == 1 and b.attrs["mpi_size"] == 2
     for k in range(a.ncontacts):
@@ -160,7 +163,10 @@ def test_petsc_options_reach_both_ranks(tmp_path):
     assert p.returncode == 0, p.stderr
     assert "type: gmres" in p.stdout and "type: bjacobi" in p.stdout
     assert "number of blocks = 2" in p.stdout and "SNES Function norm" in p.stdout
-    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5", exact=False)
+    # -snes_monitor asks for PETSc's SNES (its line search steps differently
+    # from the plain Newton of the one-rank run)
+    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5", exact=False,
+                       same_newton=False)
 
 
 def test_python_api_under_mpirun(tmp_path):

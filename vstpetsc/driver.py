@@ -119,7 +119,7 @@ class TimeLoop:
             self.model.laws.append(reactions)
         self.start = time.perf_counter()
         options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
-        self.loads = SlabLoads(self.model.laws)
+        self.loads = SlabLoads(self.model.laws, case.dt)
         try:
             self.solver = SlabSolver(self.model, case.dt, comm, options, self.loads)
         except Exception as exc:
@@ -152,7 +152,7 @@ class TimeLoop:
         energy0 = self.energy.initial
         self.solver.set_state(u, v, envelopes)
         if rhs is not None:
-            self.solver.set_rhs_state(rhs)
+            self.solver.set_restart_state(rhs)
         if self.talk:
             self.out.write(header(case, model, self.output, self.solver, self.comm.getSize()))
             if restart:
@@ -187,7 +187,7 @@ class TimeLoop:
         try:
             for k in range(k0 + 1, n + 1):
                 t0, t1 = (k - 1) * dt, k * dt
-                solver.rhs(*self.loads(t0, t1))
+                solver.rhs(*self.loads.slab(k))
                 its = solver.solve(k)
                 solver.laws.finish_slab(t0, dt)
                 solver.advance()

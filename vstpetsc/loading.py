@@ -1,10 +1,10 @@
 """What the laws prescribe per slab: nodal force integrals, body forces and
 velocities.
 
-Loads and constraints never move, so their nodes are sorted out once; per
-slab only the histories are evaluated.  Body forces (a vector times a
-history) with a constant history are added to the running right-hand side
-once (docs/loads.md section 3); the others give two coefficients a slab.
+Loads and constraints never move, so their nodes are sorted out once; the
+histories are evaluated for blocks of slabs at a time (vectorized, exact
+integrals), and a slab reads its row.  Body forces with a constant history
+are added to the running right-hand side once (docs/loads.md section 3).
 Pure numpy.
 """
 
@@ -12,9 +12,11 @@ import numpy as np
 
 from vstpetsc.laws.base import FieldLoad
 
+BLOCK = 1024          # slabs evaluated at a time
+
 
 class SlabLoads:
-    """``SlabLoads(laws)(t0, t1)`` gives, for the slab (t0, t1]:
+    """``SlabLoads(laws, dt).slab(k)`` gives, for slab k ((k-1) dt, k dt]:
 
     - forces: (nodes, values (n, 2)), ``int T_a f dt`` summed per node
       (nodes sorted, each once);
@@ -23,7 +25,8 @@ class SlabLoads:
       (``varying``); those with a constant value are ``constant``.
     """
 
-    def __init__(self, laws):
+    def __init__(self, laws, dt):
+        self.dt = dt
         loads = [load for law in laws for load in law.loads()]
         self.fields = [f for f in loads if isinstance(f, FieldLoad)]
         self.loads = [f for f in loads if not isinstance(f, FieldLoad)]
@@ -34,26 +37,37 @@ class SlabLoads:
         self.force_nodes, self.force_slot = np.unique(nodes, return_inverse=True)
         self.fixed_nodes = np.array([c.node for c in self.constraints], dtype=int)
         self.all_fixed = all(c.history is None for c in self.constraints)
-        self.zero = np.zeros((self.fixed_nodes.size, 2))
+        self.block = (0, 0, None)          # (first slab - 1, last slab, arrays)
 
-    def forces(self, t0, t1):
-        per = np.zeros((self.force_nodes.size, 2))
-        if self.loads:
-            vals = np.array([load.weight * load.history.hat_integrals(t0, t1)
-                             for load in self.loads])
-            np.add.at(per, self.force_slot, vals)
-        return self.force_nodes, per
+    def _evaluate(self, k0, k1):
+        """(forces (K, n, 2), velocities (K, m, 2), fields (K, f, 2)) of
+        slabs k0+1 .. k1."""
+        count, dt = k1 - k0, self.dt
+        forces = np.zeros((count, self.force_nodes.size, 2))
+        for i, load in enumerate(self.loads):
+            forces[:, self.force_slot[i]] += load.weight * load.history.slab_integrals(dt, k0, k1)
+        ends = dt * np.arange(k0, k1 + 1)
+        velocities = np.zeros((count, self.fixed_nodes.size, 2))
+        for i, c in enumerate(self.constraints):
+            if c.history is not None:
+                values = c.history(ends)
+                velocities[:, i, 0], velocities[:, i, 1] = values[:-1], values[1:]
+        fields = np.zeros((count, len(self.varying), 2))
+        for i, f in enumerate(self.varying):
+            fields[:, i] = f.history.slab_integrals(dt, k0, k1)
+        return forces, velocities, fields
 
-    def velocities(self, t0, t1):
-        if self.all_fixed:
-            return self.fixed_nodes, self.zero
-        ends = np.array([t0, t1])
-        vals = np.array([np.zeros(2) if c.history is None else c.history(ends)
-                         for c in self.constraints])
-        return self.fixed_nodes, vals
-
-    def field_integrals(self, t0, t1):
-        return np.array([f.history.hat_integrals(t0, t1) for f in self.varying]).reshape(-1, 2)
+    def slab(self, k):
+        """((force nodes, values), (constrained nodes, values), fields) of slab k."""
+        k0, k1, arrays = self.block
+        if not k0 < k <= k1:
+            k0, k1 = k - 1, k - 1 + BLOCK
+            arrays = self._evaluate(k0, k1)
+            self.block = (k0, k1, arrays)
+        i = k - k0 - 1
+        forces, velocities, fields = arrays
+        return ((self.force_nodes, forces[i]), (self.fixed_nodes, velocities[i]), fields[i])
 
     def __call__(self, t0, t1):
-        return self.forces(t0, t1), self.velocities(t0, t1), self.field_integrals(t0, t1)
+        """The slab (t0, t1] = ((k - 1) dt, k dt]."""
+        return self.slab(int(round(t1 / self.dt)))

@@ -79,6 +79,7 @@ class Recorder:
         out = layout.envelope_snapshots(self.model, *lo_hi)
         if rhs:
             out[layout.RHS_STATE] = b
+            out[layout.NEWTON_STATE] = self.solver.nonlinear.state()
         return out
 
     def record(self, k, its):
@@ -126,8 +127,8 @@ def model_dt(model):
 
 
 def load_restart(path, case, model, energy):
-    """(slab, u, v, running right-hand side or None, envelopes or None) of
-    the last row of result file ``path``, after checking that it continues
+    """(slab, u, v, solver state {name: array} or None, envelopes or
+    None) of the last row of result file ``path``, after checking that it continues
     ``case``; its laws and ``energy`` (an EnergyBook) take their running
     sums back."""
     import h5py
@@ -148,12 +149,12 @@ def load_restart(path, case, model, energy):
         for law in model.recorded:
             law.restore(values[law.group])
         energy.restore(first, last)
-        rhs = f.get(layout.RHS_STATE)
         # kept with every block; after a failed solve the last rows have
         # none and the solver starts again from (u, v), equal up to rounding
-        rhs = rhs[...] if rhs is not None and int(rhs.attrs["slab"]) == k0 else None
+        state = {name: f[name][...] for name in layout.RESTART_STATE
+                 if name in f and int(f[name].attrs["slab"]) == k0}
         envelopes = layout.read_envelopes(f, model)
-    return k0, np.asarray(u), np.asarray(v), rhs, envelopes
+    return k0, np.asarray(u), np.asarray(v), state or None, envelopes
 
 
 def _check_continues(f, path, case):

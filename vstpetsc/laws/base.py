@@ -15,16 +15,21 @@ right-hand side):
 - ``held_nodes()``: nodes held fixed while the static initial state is
   computed (their reactions then act as constant forces).
 
-Nonlinear part, on the law's few ``nodes`` (unknowns per node: the
-velocities v^1 = v^{n+} and v^2 = v^{(n+1)-}):
+Nonlinear part, on the law's few ``nodes`` with ``signs`` c_k: the law
+sees two reduced coordinates y^a = sum_k c_k v_k^a (a = 1, 2: the slab's
+velocities v^{n+} and v^{(n+1)-}; for a pair, the rates at which its gap
+closes), and its terms in the slab equations of node k are c_k f^a(y):
 
 - ``start_slab(u, dt)``: displacements of its nodes at t^n, before Newton;
-- ``residual(v)``: its terms in the slab equations of its nodes (rows of the
-  untransformed equations, same sign as A v - r), shape (n, 2), and whether
-  any of them is nonzero anywhere in the slab;
-- ``tangent(v)``: d residual / d v, shape (2 n, 2 n), dof 2 k + a for node k;
-- ``finish_slab(t0, dt)``: after convergence (the last ``residual`` call was
-  at the converged velocities): update its state and what it reports.
+- ``acts(y1, y2)``: whether the law does anything in the slab at y (a
+  cheap test before Newton);
+- ``force(y1, y2)``: (f1, f2, df1/dy1, df1/dy2, df2/dy1, df2/dy2) in plain
+  floats (same sign as A v - r), or None when the law does nothing anywhere
+  in the slab;
+- ``finish_slab(t0, dt)``: after convergence (the last ``force`` call was at
+  the converged coordinates): update its state and what it reports;
+- ``static(u)``: (residual, tangent) on its nodes for the static initial
+  state.
 
 Result file: ``group`` (e.g. "contact/0", None for nothing), ``series``
 (its scalar datasets per kept row), ``attrs()`` and ``values(u)``; a restart

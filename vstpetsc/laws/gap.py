@@ -1,5 +1,7 @@
 """The gap of a contact pair inside a slab and the exact penalty integrals
-over its active part (formulation.md sections 3-6).  Pure numpy.
+over its active part (formulation.md sections 3-6), in plain Python floats
+(a slab needs them for one pair at a time, where numpy's per-call cost
+would dominate).
 
 Inside a slab the gap of a pair is the quadratic
 
@@ -9,14 +11,17 @@ where the pair's nodes ``n_k`` carry signs ``c_k`` (+1 for the body on the
 left, -1 for the body on the right).  The penalty terms are integrated
 exactly over the active part {g < 0}: split the slab at the real roots of g,
 then a 3-point Gauss rule on each active piece (the integrands are
-polynomials of degree <= 4).  The residual of node ``n_k`` gets
-``-c_k w G_a`` with ``G_a = int min(0, g) phi_a dt``; the weight ``phi_a`` is
-I_a for the seed's penalty and T_a for the consistent ("power") one.
+polynomials of degree <= 4; evaluating g at the points, not summing
+moments, keeps a barely active piece accurate).  The residual of node
+``n_k`` gets ``-c_k w G_a`` with ``G_a = int min(0, g) phi_a dt``; the weight
+``phi_a`` is I_a for the seed's penalty and T_a for the consistent ("power")
+one.
 """
 
-import numpy as np
+import math
 
-from vstpetsc.history import GAUSS_W, GAUSS_X
+_SQ = math.sqrt(0.6)
+GAUSS = ((0.5 - 0.5 * _SQ, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + 0.5 * _SQ, 5.0 / 18.0))
 
 
 def gap_coefficients(gn, d1, d2, dt):
@@ -24,68 +29,66 @@ def gap_coefficients(gn, d1, d2, dt):
     return gn, -dt * d1, 0.5 * dt * (d1 - d2)
 
 
-def gap_roots(a0, a1, a2):
-    """Real roots of a0 + a1 t + a2 t^2 inside (0, 1), as an (P, 2) array
-    sorted per row, with 1.0 standing for "no root" (it adds an empty piece).
-
-    Uses the cancellation-free pair q / a2, a0 / q; a linear or constant g
-    falls out of the same formulas (infinite or nan roots are discarded).
-    """
-    a0, a1, a2 = (np.atleast_1d(np.asarray(c, dtype=float)) for c in (a0, a1, a2))
-    with np.errstate(divide="ignore", invalid="ignore"):
+def roots01(a0, a1, a2):
+    """Real roots of a0 + a1 t + a2 t^2 strictly inside (0, 1), sorted; the
+    cancellation-free pair q / a2, a0 / q (a linear g has one root)."""
+    if a2 != 0.0:
         disc = a1 * a1 - 4.0 * a2 * a0
-        sq = np.sqrt(np.where(disc >= 0.0, disc, np.nan))
-        q = -0.5 * (a1 + np.copysign(sq, a1))
-        r1, r2 = q / a2, a0 / q
-    r1 = np.where((r1 > 0.0) & (r1 < 1.0), r1, 1.0)     # nan and inf compare False
-    r2 = np.where((r2 > 0.0) & (r2 < 1.0), r2, 1.0)
-    return np.stack([np.minimum(r1, r2), np.maximum(r1, r2)], axis=-1)
+        if disc < 0.0:
+            return ()
+        q = -0.5 * (a1 + math.copysign(math.sqrt(disc), a1))
+        if q == 0.0:
+            return ()
+        r1, r2 = sorted((q / a2, a0 / q))
+        return tuple(r for r in (r1, r2) if 0.0 < r < 1.0)
+    if a1 != 0.0:
+        r = -a0 / a1
+        return (r,) if 0.0 < r < 1.0 else ()
+    return ()
 
 
-def contact_integrals(gn, d1, d2, dt, formulation):
-    """Exact penalty integrals of P pairs over one slab.
+def closed_on_slab(gn, d1, d2, dt):
+    """Whether g < 0 somewhere in the slab (the end points and the vertex
+    of the parabola are its only candidates for a minimum)."""
+    a0, a1, a2 = gap_coefficients(gn, d1, d2, dt)
+    if a0 < 0.0 or a0 + a1 + a2 < 0.0:
+        return True
+    if a2 > 0.0:
+        t = -a1 / (2.0 * a2)
+        return 0.0 < t < 1.0 and a0 + t * (a1 + t * a2) < 0.0
+    return False
 
-    Parameters
-    ----------
-    gn, d1, d2 : (P,) arrays
-        Gap at t^n and the gap closing rates ``d^a`` at the two time nodes.
-    dt : float
-    formulation : (P,) sequence of "seed"/"power", or a boolean array that
-        is True for "power"
 
-    Returns
-    -------
-    G : (P, 2)  int_{I_n} min(0, g) phi_a dt
-    W : (P, 2, 2)  int_{active} phi_a I_b dt  (= -dG_a / dd^b)
-    active : (P,) bool, some part of the slab has g < 0
+def pair_integrals(gn, d1, d2, dt, power):
+    """Exact penalty integrals of one pair over one slab.
+
+    Returns (G1, G2, W11, W12, W21, W22) with G_a = int min(0, g) phi_a dt
+    and W_ab = int_active phi_a I_b dt (= -dG_a / dd^b), or None when g >= 0
+    on the whole slab.  ``power`` picks phi = T (else I, the seed's).
     """
-    power = np.asarray(formulation)
-    if power.dtype != bool:
-        power = power == "power"
-    a0, a1, a2 = gap_coefficients(np.asarray(gn, float), np.asarray(d1, float),
-                                  np.asarray(d2, float), dt)
-    r = gap_roots(a0, a1, a2)
-    lo = np.concatenate([np.zeros_like(r[:, :1]), r], axis=1)          # (P, 3) pieces
-    length = np.concatenate([r, np.ones_like(r[:, :1])], axis=1) - lo
-    mid = lo + 0.5 * length
-    on = (a0[:, None] + mid * (a1[:, None] + mid * a2[:, None]) < 0.0) & (length > 0.0)
-    active = on.any(axis=1)
-    P = a0.size
-    G, W = np.zeros((P, 2)), np.zeros((P, 2, 2))
-    if not active.any():
-        return G, W, active
-    # Gauss points of all pieces, flattened per pair: (P, 9); weights are dt dtheta
-    theta = (lo[..., None] + length[..., None] * GAUSS_X).reshape(P, -1)
-    w = (dt * (length * on)[..., None] * GAUSS_W).reshape(P, -1)
-    g = a0[:, None] + theta * (a1[:, None] + theta * a2[:, None])
-    half = 0.5 * theta * theta
-    i1, i2 = dt * (theta - half), dt * half
-    pw = power[:, None]
-    phi1 = np.where(pw, 1.0 - theta, i1)
-    phi2 = np.where(pw, theta, i2)
-    wg = w * g
-    G[:, 0], G[:, 1] = (wg * phi1).sum(axis=1), (wg * phi2).sum(axis=1)
-    w1, w2 = w * phi1, w * phi2
-    W[:, 0, 0], W[:, 0, 1] = (w1 * i1).sum(axis=1), (w1 * i2).sum(axis=1)
-    W[:, 1, 0], W[:, 1, 1] = (w2 * i1).sum(axis=1), (w2 * i2).sum(axis=1)
-    return G, W, active
+    a0, a1, a2 = gap_coefficients(gn, d1, d2, dt)
+    edges = (0.0,) + roots01(a0, a1, a2) + (1.0,)
+    G1 = G2 = W11 = W12 = W21 = W22 = 0.0
+    hit = False
+    for k in range(len(edges) - 1):
+        p, q = edges[k], edges[k + 1]
+        length = q - p
+        mid = p + 0.5 * length
+        if length <= 0.0 or a0 + mid * (a1 + mid * a2) >= 0.0:
+            continue
+        hit = True
+        for x, weight in GAUSS:
+            t = p + length * x
+            w = dt * length * weight
+            g = a0 + t * (a1 + t * a2)
+            half = 0.5 * t * t
+            i1, i2 = dt * (t - half), dt * half
+            f1, f2 = ((1.0 - t), t) if power else (i1, i2)
+            G1 += w * g * f1
+            G2 += w * g * f2
+            w1, w2 = w * f1, w * f2
+            W11 += w1 * i1
+            W12 += w1 * i2
+            W21 += w2 * i1
+            W22 += w2 * i2
+    return (G1, G2, W11, W12, W21, W22) if hit else None

@@ -47,11 +47,7 @@ class PairLaw(Law):
 
     def start_slab(self, u, dt):
         """Gap at t^n from the displacements of the pair's nodes."""
-        self.gn = self.g0 - self.signs @ u
-
-    def closing_rates(self, v):
-        """d^a = sum_k c_k v_k^a, the rates at which the gap closes."""
-        return self.signs @ v
+        self.gn = float(self.g0 - self.signs @ u)
 
     def add_impulse(self, impulse, t0, dt):
         """Record the slab's impulse in the running totals."""

@@ -9,7 +9,7 @@ active part {g < 0} (:mod:`vstpetsc.laws.gap`); ``phi_a`` is I_a for "seed"
 
 import numpy as np
 
-from vstpetsc.laws.gap import contact_integrals
+from vstpetsc.laws.gap import closed_on_slab, pair_integrals
 from vstpetsc.laws.pair import PairLaw
 
 KEYS = ("penalty",)
@@ -49,26 +49,22 @@ class PenaltyContact(PairLaw):
                         if b is not None)
         self.penalty = spec.params["penalty"] if self.given else \
             default_penalty(spec.formulation, stiffness, case.dt)
-        self.power = np.array([spec.formulation == "power"])
-        self.G = np.zeros((1, 2))
-        self.active = False
+        self.power = spec.formulation == "power"
+        self.last = None
 
-    def _integrals(self, v):
-        d = self.closing_rates(v)
-        return contact_integrals(np.array([self.gn]), d[:1], d[1:], self.dt, self.power)
+    def acts(self, d1, d2):
+        return closed_on_slab(self.gn, d1, d2, self.dt)
 
-    def residual(self, v):
-        G, _, active = self._integrals(v)
-        self.G, self.active = G, bool(active[0])
-        return -(self.signs * self.penalty)[:, None] * G, self.active
-
-    def tangent(self, v):
-        _, W, _ = self._integrals(v)
-        c = self.signs
-        block = (c[:, None, None, None] * c[None, None, :, None] * self.penalty
-                 * W[0][None, :, None, :])
-        n = c.size
-        return block.reshape(2 * n, 2 * n)
+    def force(self, d1, d2):
+        """The pair's terms for the closing rates (d1, d2): (f1, f2, df1/dd1,
+        df1/dd2, df2/dd1, df2/dd2) with f_a = -w G_a, or None when the gap
+        stays open over the whole slab."""
+        integrals = self.last = pair_integrals(self.gn, d1, d2, self.dt, self.power)
+        if integrals is None:
+            return None
+        G1, G2, W11, W12, W21, W22 = integrals
+        w = self.penalty
+        return (-w * G1, -w * G2, w * W11, w * W12, w * W21, w * W22)
 
     @property
     def static_stiffness(self):
@@ -90,8 +86,9 @@ class PenaltyContact(PairLaw):
         return 0.5 * self.static_stiffness * min(0.0, self.gap(u)) ** 2
 
     def finish_slab(self, t0, dt):
-        impulse = float(-self.penalty * self.G.sum(axis=1)[0]) if self.active else 0.0
-        self.add_impulse(impulse, t0, dt)
+        """Record the converged slab (the last force() was at its solution)."""
+        last = self.last
+        self.add_impulse(-self.penalty * (last[0] + last[1]) if last else 0.0, t0, dt)
 
     def attrs(self):
         return {**super().attrs(), "penalty": self.penalty}

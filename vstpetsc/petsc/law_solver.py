@@ -1,14 +1,24 @@
-"""The nonlinear laws inside a slab: whether any is active for the law-free
-solution, Newton when one is (:mod:`vstpetsc.petsc.newton`), and what their
-converged terms leave in the running right-hand side."""
+"""The nonlinear laws inside a slab: whether any acts for the law-free
+solution, Newton when one does (:mod:`vstpetsc.petsc.newton`), and what
+their converged terms leave in the running right-hand side."""
 
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc.errors import SolveFailed
 from vstpetsc.lawset import LawSet
-from vstpetsc.petsc.linear import reason_name
-from vstpetsc.petsc.newton import Condensed, Coupling, Full
+from vstpetsc.petsc.newton import Coupling, Full, Plain, SnesCondensed
+from vstpetsc.petsc.options import PREFIX
+
+# Plain Newton reads these itself; any other -snes_* option (a monitor, a
+# line search, -snes_test_jacobian) asks for PETSc's SNES.
+PLAIN_OPTIONS = ("snes_rtol", "snes_atol", "snes_stol", "snes_max_it")
+
+
+def wants_snes():
+    """Whether the run's options name a SNES feature the plain Newton lacks."""
+    names = PETSc.Options().getAll()
+    return any(n.startswith((PREFIX + "snes_", PREFIX + "newton_")) and
+               n[len(PREFIX):] not in PLAIN_OPTIONS for n in names)
 
 
 class LawSolver:
@@ -17,46 +27,77 @@ class LawSolver:
 
     def __init__(self, model, options, solver):
         self.laws = LawSet(model.nonlinear)
-        self.active = self.laws.size > 0
+        self.active = self.laws.reduced > 0
         self.newton = None
-        self.rhs = np.zeros(self.laws.size)     # W r_laws of the last slab
-        self.work = 0.0                         # c . v the laws took, summed
-        if self.active:
-            space = solver.space
-            self.coupling = Coupling(self.laws, solver.X, space.nodes, solver.W, solver.V,
-                                     solver.linear)
-            self.newton = Condensed(self.coupling, options.fd_jacobian,
-                                    space.comm.getRank()) \
-                if options.newton == "condensed" else \
-                Full(self.coupling, options.fd_jacobian, solver.A, solver.linear, space)
+        self.f = np.zeros(self.laws.reduced)      # the laws' terms of the last slab
+        self.acted = False
+        self.work = 0.0                           # f . y the laws took, summed
+        if not self.active:
+            return
+        space = solver.space
+        self.coupling = Coupling(self.laws, solver.X, space.nodes, solver.W, solver.V,
+                                 solver.linear, solver.carry)
+        if options.newton == "full":
+            self.newton = Full(self.coupling, options.fd_jacobian, solver.A, solver.linear,
+                               space)
+        elif options.fd_jacobian or wants_snes():
+            self.newton = SnesCondensed(self.coupling, options.fd_jacobian,
+                                        space.comm.getRank())
+        else:
+            self.newton = Plain(self.coupling)
 
     def solve(self, X, b, dt, slab_index):
-        """Newton if a law is active for the law-free solution X (updated in
+        """Newton if a law acts for the law-free solution X (updated in
         place); returns the Newton iterations."""
-        self.laws.start_slab(dt)
-        _, active = self.laws.residual(self.coupling.velocities(X))
-        self.rhs[:] = 0.0
-        if not active:
+        laws = self.laws
+        laws.start_slab(dt)
+        y0 = self.coupling.coordinates(X)
+        if not laws.acts(y0):
+            # the laws' last evaluation must be at this slab (finish_slab
+            # reads it); after a slab without Newton it already gave nothing
+            if self.acted:
+                laws.evaluate(y0)
+            self.acted = False
             return 0
-        self.newton.solve(X, b)
-        snes = self.newton.snes
-        reason = snes.getConvergedReason()
-        if reason <= 0:
-            raise SolveFailed(f"slab {slab_index}: SNES did not converge "
-                              f"({reason_name(PETSc.SNES.ConvergedReason, reason)}"
-                              f" after {snes.getIterationNumber()} Newton iterations)")
-        s = self.coupling.velocities(X)
-        c, _ = self.laws.residual(s)
-        self.rhs[:] = self.coupling.WE @ c
-        self.work += float(c @ s)
-        return snes.getIterationNumber()
+        if isinstance(self.newton, Full):
+            self.newton.solve_full(X, b, slab_index)
+            y = laws.P.T @ self.coupling.velocities(X)
+            laws.evaluate(y)
+        else:
+            start = y0 - self.coupling.S_red @ self.f if self.acted else None
+            y = self.newton.solve(y0, slab_index, start)
+            X.maxpy(-laws.f, self.coupling.Zred)
+        self.f[:] = laws.f
+        self.acted = True
+        self.work += float(self.f @ y)
+        return self.newton.iterations
 
-    def advance(self, X, b, carry):
+    def advance(self, X, b):
         """Close the slab: the laws' displacements, their terms carried over
-        in the running sum b (``carry`` = W (T - I) W^-1 per node)."""
-        self.laws.u += self.coupling.gather(X)[1::2]
-        if self.rhs.any():
-            self.coupling.gather.add_rows(b, (self.rhs.reshape(-1, 2) @ carry.T).ravel())
+        in the running sum b."""
+        self.laws.u += self.coupling.increments(X)
+        if self.acted:
+            self.coupling.gather.add_rows(b, self.coupling.carry_rows @ self.f)
+
+    def describe(self):
+        """The Newton in use, for the run header."""
+        if self.newton is None:
+            return ""
+        if isinstance(self.newton, Plain):
+            return f"; Newton: plain, on the laws' {self.laws.reduced} coordinates"
+        where = "all unknowns" if isinstance(self.newton, Full) else \
+            f"the laws' {self.laws.reduced} coordinates"
+        return f"; Newton: SNES {self.newton.snes.getType()} on {where}"
+
+    def state(self):
+        """[acted, f]: what the next slab's Newton starts from (a restart
+        continues bit for bit only with it)."""
+        return np.concatenate([[float(self.acted)], self.f])
+
+    def set_newton_state(self, state):
+        if state.size == self.f.size + 1:
+            self.acted = bool(state[0])
+            self.f[:] = state[1:]
 
     def set_state(self, u):
         self.laws.u[:] = u[self.laws.nodes]

@@ -1,25 +1,31 @@
-"""Newton for slabs in which a nonlinear law is active.
+"""Newton for slabs in which a nonlinear law acts.
 
-The laws act on a few dofs E (both dofs of each of their nodes), so the
-Jacobian differs from the slab matrix A only there: J = A + E C E^T with a
-small dense block C.  With Z = A^{-1} E (k solves, once per run) and
-S = E^T Z:
+The laws act on a few dofs E, through 2L reduced coordinates y = P^T s
+(:mod:`vstpetsc.lawset`), so the Jacobian differs from the slab matrix A
+only there: J = A + E C E^T.  With Z = A^{-1} E (2L solves of combined
+columns, once per run) and S = P^T E^T A^{-1} E P (in the velocity basis):
 
-- :class:`Condensed` (default): with x0 = A^{-1} b (the law-free solve) the
-  solution is x = x0 - Z c(s), where s = E^T x solves the k-dimensional
-  r(s) = s - s0 + S c(s) = 0 (Jacobian I + S C(s)); no further solve with A.
-- :class:`Full`: Newton on all unknowns; J is a shell matrix and each step
-  is solved exactly by a Woodbury update of A's factors.
+- condensed (default): with x0 = A^{-1} b (the law-free solve) the solution
+  is x = x0 - Z P f(y), where y solves the 2L-dimensional
+  r(y) = y - y0 + S f(y) = 0 with Jacobian I + S f'(y).  :class:`Plain`
+  runs this Newton in plain floats (2 unknowns a pair);
+  :class:`SnesCondensed` hands the same system to a SNES (for
+  ``-vst_fd_jacobian`` and SNES monitors and line searches);
+- :class:`Full` (``-vst_newton full``): SNES on all unknowns, J a shell
+  matrix and each step solved exactly by a Woodbury update of A's factors.
 
-Unknowns and rows are mixed per node (slab.recurrence), the laws work in
-(v^1, v^2): values at E are seen through VE (z to v) and the laws' rows
-enter through WE.  ``formFunction``/``formJacobian`` only unwrap vectors and
-call the numpy laws.  Every rank gathers E and takes the same decisions.
+Unknowns and rows are mixed per node (slab.recurrence): values at E are
+seen through VE (z to v) and the laws' rows enter through WE.  Every rank
+gathers E and takes the same decisions.
 """
+
+import math
 
 import numpy as np
 from petsc4py import PETSc
 
+from vstpetsc.errors import SolveFailed
+from vstpetsc.petsc.linear import reason_name
 from vstpetsc.petsc.options import PREFIX
 from vstpetsc.petsc.space import DofGather
 
@@ -47,89 +53,260 @@ def newton_snes(comm, function, F, jacobian, J, exact_inverse, rtol, dm=None):
 
 
 class Coupling:
-    """The laws' dofs E in the solver's space: gathers, transforms, and
-    Z = A^{-1} E, S = E^T Z (computed once per run)."""
+    """The laws' dofs E and coordinates y in the solver's space, and the
+    run-constant pieces of the condensed system."""
 
-    def __init__(self, lawset, template, nodes, W, V, linear):
+    def __init__(self, lawset, template, nodes, W, V, linear, carry):
         self.lawset = lawset
         self.gather = DofGather(template, lawset.dofs, nodes)
-        k = lawset.size
+        k, P = lawset.size, lawset.P
         self.VE = np.kron(np.eye(k // 2), V)
         self.WE = np.kron(np.eye(k // 2), W)
         self.eye = np.eye(k)
-        self.Z = []
         e = template.duplicate()
+        self.Z = []
         for j in range(k):
             z = template.duplicate()
             linear.solve(self.gather.unit(e, j), z)
             self.Z.append(z)
-        self.S = np.array([self.gather(z) for z in self.Z]).T.copy()
-        self.S_velocity = self.VE @ self.S @ self.WE     # E^T A^{-1} E in (v^1, v^2)
+        self.S = np.array([self.gather(z) for z in self.Z]).T.copy()     # E^T A^-1 E (z)
+        S_velocity = self.VE @ self.S @ self.WE
+        self.S_red = P.T @ S_velocity @ P
+        self.R0 = P.T @ self.VE                 # y = R0 x_E
+        combine = self.WE @ P                   # Z combined: A^-1 E WE P
+        self.Zred = []
+        for j in range(P.shape[1]):
+            z = template.duplicate()
+            z.maxpy(combine[:, j], self.Z)
+            self.Zred.append(z)
+        self.carry_rows = np.kron(np.eye(k // 2), carry) @ combine
+        # one rank holds every dof: read them straight from X (on several
+        # ranks every rank takes part in the gather, whoever owns the dofs)
+        self.local = self.gather.local if template.getComm().getSize() == 1 else None
 
     def velocities(self, X):
-        """(v^1, v^2) of the laws' nodes at iterate X."""
+        """(v^1, v^2) of the laws' nodes at iterate X (on every rank)."""
         return self.VE @ self.gather(X)
 
+    def coordinates(self, X):
+        """The reduced coordinates y at X (on every rank)."""
+        if self.local is not None:           # one rank: read X directly
+            return self.R0 @ X.getArray(readonly=True)[self.local]
+        return self.R0 @ self.gather(X)
 
-class Condensed:
-    """Newton on the laws' dofs only (see the module docstring).
+    def increments(self, X):
+        """z_2 (the displacement increments) of the laws' nodes at X."""
+        if self.local is not None:
+            return X.getArray(readonly=True)[self.local[1::2]]
+        return self.gather(X)[1::2]
 
-    The k unknowns are known on every rank, so each rank runs this small SNES
-    on COMM_SELF, redundantly and identically (no communication; parallel
-    Python-side objects touched by one rank only would upset PETSc 3.18's
-    collective garbage collection); ranks other than 0 cancel their monitors
-    so that output appears once."""
+
+class Plain:
+    """Newton on y in plain floats: full steps, halved while the residual
+    does not fall.  One law (two coordinates) runs in Python floats, more
+    in numpy.  Converged when max |r| <= max(atol, rtol (max |y0| + max
+    |S f|)); tolerances from the options database (-snes_rtol, -snes_atol,
+    -snes_max_it, as given to the run)."""
+
+    def __init__(self, coupling):
+        self.c, self.laws = coupling, coupling.lawset
+        opts = PETSc.Options()
+        self.rtol = opts.getReal(PREFIX + "snes_rtol", 1e-12)
+        self.atol = opts.getReal(PREFIX + "snes_atol", 1e-50)
+        self.max_it = opts.getInt(PREFIX + "snes_max_it", 30)
+        self.iterations = 0
+        self.pair = self.laws.laws[0] if self.laws.reduced == 2 else None
+        self.S = tuple(float(x) for x in self.c.S_red.ravel()) if self.pair else None
+
+    def solve(self, y0, slab_index, start=None):
+        """y with r(y) = 0 from ``start`` (default y0); the laws' last
+        evaluation is at it."""
+        if self.pair is not None:
+            y1, y2 = self._solve_pair(float(y0[0]), float(y0[1]), slab_index,
+                                      start if start is not None else y0)
+            return np.array((y1, y2))
+        return self._solve_many(y0, slab_index, y0.copy() if start is None else start)
+
+    def _fail(self, slab_index, norm):
+        raise SolveFailed(f"slab {slab_index}: Newton did not converge (DIVERGED_MAX_IT "
+                          f"after {self.max_it} Newton iterations, residual {norm:.3g})")
+
+    def _pair_residual(self, y1, y2, y01, y02):
+        """(r1, r2, the law's terms or None, max |S f|) at (y1, y2)."""
+        s11, s12, s21, s22 = self.S
+        out = self.pair.force(y1, y2)
+        if out is None:
+            return y1 - y01, y2 - y02, None, 0.0
+        sf1 = s11 * out[0] + s12 * out[1]
+        sf2 = s21 * out[0] + s22 * out[1]
+        return y1 - y01 + sf1, y2 - y02 + sf2, out, max(abs(sf1), abs(sf2))
+
+    def _solve_pair(self, y01, y02, slab_index, start):
+        s11, s12, s21, s22 = self.S
+        y1, y2 = float(start[0]), float(start[1])
+        r1, r2, out, sf = self._pair_residual(y1, y2, y01, y02)
+        if out is None:
+            # a start where the law does nothing: its Newton step would go
+            # straight back to the law-free y0, where we know it acts
+            y1, y2 = y01, y02
+            r1, r2, out, sf = self._pair_residual(y1, y2, y01, y02)
+        size = max(abs(y01), abs(y02))
+        for it in range(self.max_it + 1):
+            norm = max(abs(r1), abs(r2))
+            if norm <= max(self.atol, self.rtol * (size + sf)):
+                self.iterations = it
+                self._keep(out)
+                return y1, y2
+            if it == self.max_it:
+                break
+            # (I + S J) step = r, J = out[2:] (zero when nothing acts)
+            j11, j12, j21, j22 = out[2:] if out is not None else (0.0, 0.0, 0.0, 0.0)
+            m11, m12 = 1.0 + s11 * j11 + s12 * j21, s11 * j12 + s12 * j22
+            m21, m22 = s21 * j11 + s22 * j21, 1.0 + s21 * j12 + s22 * j22
+            det = m11 * m22 - m12 * m21
+            if det == 0.0 or not math.isfinite(det):
+                break
+            d1, d2 = (m22 * r1 - m12 * r2) / det, (m11 * r2 - m21 * r1) / det
+            lam = 1.0
+            for _ in range(20):         # halve while the residual does not fall
+                t1, t2 = y1 - lam * d1, y2 - lam * d2
+                q1, q2, q_out, q_sf = self._pair_residual(t1, t2, y01, y02)
+                if max(abs(q1), abs(q2)) < norm or lam < 1e-5:
+                    break
+                lam *= 0.5
+            y1, y2, r1, r2, out, sf = t1, t2, q1, q2, q_out, q_sf
+        self._keep(out)
+        self._fail(slab_index, norm)
+
+    def _keep(self, out):
+        """The laws' terms (and the pair's record) at the last evaluation."""
+        f = self.laws.f
+        if out is None:
+            f[0] = f[1] = 0.0
+        else:
+            f[0], f[1] = out[0], out[1]
+
+    def _solve_many(self, y0, slab_index, y):
+        S = self.c.S_red
+        r = self._residual(y, y0)
+        if not self.laws.f.any():          # as in _solve_pair
+            y = y0.copy()
+            r = self._residual(y, y0)
+        for it in range(self.max_it + 1):
+            norm = float(np.abs(r).max())
+            scale = float(np.abs(y0).max() + np.abs(S @ self.laws.f).max())
+            if norm <= max(self.atol, self.rtol * scale):
+                self.iterations = it
+                return y
+            if it == self.max_it:
+                break
+            try:
+                step = np.linalg.solve(np.eye(y.size) + S @ self.laws.jac, r)
+            except np.linalg.LinAlgError:
+                break
+            y, r = self._line(y, y0, step, norm)
+        self._fail(slab_index, norm)
+
+    def _residual(self, y, y0):
+        self.laws.evaluate(y)
+        return y - y0 + self.c.S_red @ self.laws.f
+
+    def _line(self, y, y0, step, norm):
+        """Full step, halved (up to 20 times) while the residual grows."""
+        lam = 1.0
+        for _ in range(20):
+            trial = y - lam * step
+            r = self._residual(trial, y0)
+            if float(np.abs(r).max()) < norm or lam < 1e-5:
+                return trial, r
+            lam *= 0.5
+        return trial, r
+
+
+class SnesCondensed:
+    """The condensed system r(y) = y - y0 + S f(y) in a SNES on COMM_SELF,
+    run redundantly and identically on every rank (ranks other than 0
+    cancel their monitors); with ``fd_jacobian`` its Jacobian comes from
+    central differences of r."""
 
     def __init__(self, coupling, fd_jacobian, rank):
         self.c, self.laws = coupling, coupling.lawset
         self.fd_jacobian = fd_jacobian
-        k = self.laws.size
+        k = self.laws.reduced
         self.k, self.J = k, np.eye(k)
         self.vec = PETSc.Vec().createSeq(k, comm=PETSc.COMM_SELF)
         mat = PETSc.Mat().createPython((k, k), context=_Dense(self), comm=PETSc.COMM_SELF)
         mat.setUp()
         self.snes = newton_snes(PETSc.COMM_SELF, self.formFunction, self.vec.duplicate(),
                                 self.formJacobian, mat, _Dense(self), rtol=1e-12)
+        self.snes.setConvergenceTest(self._converged)
         if rank != 0:
             self.snes.cancelMonitor()
+        self.iterations = 0
 
-    def residual(self, sv):
-        c, _ = self.laws.residual(sv)
-        return sv - self.s0 + self.c.S_velocity @ c
+    def _converged(self, snes, it, norms):
+        """Plain's test (in 2-norms): |r| <= max(atol, rtol (|y0| + |S f|)),
+        with the SNES's tolerances (the options database has the last word).
+        A relative decrease alone cannot be met when the start is already
+        near the root (a warm start), the residual then at rounding level."""
+        rtol, atol, _, max_it = snes.getTolerances()
+        fnorm = norms[2]
+        R = snes.ConvergedReason
+        if not math.isfinite(fnorm):
+            return R.DIVERGED_FNORM_NAN
+        scale = np.linalg.norm(self.y0) + np.linalg.norm(self.c.S_red @ self.laws.f)
+        if fnorm <= max(atol, rtol * scale):
+            return R.CONVERGED_FNORM_ABS if fnorm <= atol else R.CONVERGED_FNORM_RELATIVE
+        return R.DIVERGED_MAX_IT if it >= max_it else R.ITERATING
+
+    def residual(self, y):
+        self.laws.evaluate(y)
+        return y - self.y0 + self.c.S_red @ self.laws.f
 
     def formFunction(self, snes, X, F):
         F.array = self.residual(X.getArray(readonly=True).copy())
 
     def formJacobian(self, snes, X, J, P):
-        sv = X.getArray(readonly=True).copy()
-        if self.fd_jacobian:      # cross-check: central differences of r(s)
-            h = 1e-7 * max(1.0, np.abs(sv).max())
-            self.J = np.array([(self.residual(sv + h * e) - self.residual(sv - h * e)) / (2 * h)
+        y = X.getArray(readonly=True).copy()
+        if self.fd_jacobian:
+            h = 1e-7 * max(1.0, np.abs(y).max())
+            self.J = np.array([(self.residual(y + h * e) - self.residual(y - h * e)) / (2 * h)
                                for e in np.eye(self.k)]).T
         else:
-            self.J = np.eye(self.k) + self.c.S_velocity @ self.laws.tangent(sv)
+            self.residual(y)
+            self.J = np.eye(self.k) + self.c.S_red @ self.laws.jac
 
-    def solve(self, X, b):
-        c = self.c
-        self.s0 = c.velocities(X)
-        self.vec.array = self.s0
+    def solve(self, y0, slab_index, start=None):
+        self.y0 = y0
+        if start is not None:               # as in Plain._solve_pair
+            self.laws.evaluate(start)
+            if not self.laws.f.any():
+                start = None
+        self.vec.array = y0 if start is None else start
         self.snes.solve(None, self.vec)
-        res, _ = self.laws.residual(self.vec.getArray(readonly=True).copy())
-        X.maxpy(-(c.WE @ res), c.Z)
+        reason = self.snes.getConvergedReason()
+        self.iterations = self.snes.getIterationNumber()
+        if reason <= 0:
+            raise SolveFailed(f"slab {slab_index}: SNES did not converge "
+                              f"({reason_name(PETSc.SNES.ConvergedReason, reason)}"
+                              f" after {self.iterations} Newton iterations)")
+        y = self.vec.getArray(readonly=True).copy()
+        self.laws.evaluate(y)
+        return y
 
 
 class _Dense:
-    """The condensed Jacobian as a matrix (for -snes_test_jacobian) and its
-    exact inverse as the preconditioner (k is small)."""
+    """A small Jacobian as a matrix (for -snes_test_jacobian) and its exact
+    inverse as the preconditioner."""
 
-    def __init__(self, condensed):
-        self.c = condensed
+    def __init__(self, owner):
+        self.o = owner
 
     def mult(self, mat, x, y):
-        y.array = self.c.J @ x.getArray(readonly=True)
+        y.array = self.o.J @ x.getArray(readonly=True)
 
     def apply(self, pc, x, y):
-        y.array = np.linalg.solve(self.c.J, x.getArray(readonly=True))
+        y.array = np.linalg.solve(self.o.J, x.getArray(readonly=True))
 
 
 class Full:
@@ -147,11 +324,18 @@ class Full:
         self.J = J
         self.snes = newton_snes(space.comm, self.formFunction, self.F, self.formJacobian, J,
                                 _Woodbury(self), rtol=1e-10, dm=space.da)
+        self.iterations = 0
 
-    def solve(self, X, b):
+    def solve_full(self, X, b, slab_index):
         self.b = b
         self.C[:] = 0.0
         self.snes.solve(None, X)
+        reason = self.snes.getConvergedReason()
+        self.iterations = self.snes.getIterationNumber()
+        if reason <= 0:
+            raise SolveFailed(f"slab {slab_index}: SNES did not converge "
+                              f"({reason_name(PETSc.SNES.ConvergedReason, reason)}"
+                              f" after {self.iterations} Newton iterations)")
 
     def formFunction(self, snes, X, F):
         self.A.mult(X, F)

@@ -43,7 +43,7 @@ class SlabSolver:
 
     def __init__(self, model, dt, comm, options, loads=None):
         self.dt = dt
-        loads = SlabLoads(model.laws) if loads is None else loads
+        loads = SlabLoads(model.laws, dt) if loads is None else loads
         ops = model.ops
         self.space = Space(model.mesh.nnodes, comm, options.ownership)
         n0, n1 = nodes = self.space.nodes
@@ -61,6 +61,7 @@ class SlabSolver:
         self.G = Increment(ops, dt, self.space, self.b)
         self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
         self._loads = None              # (local dofs, -W T f, f) of the open slab
+        self._row_cache = {}
         self.linear = LinearSolver(self.A, comm)
         self.fields = FieldTerms(self.space, loads, self.W, self.V, dt)
         self.reactions = None if loads.all_fixed else \
@@ -75,33 +76,40 @@ class SlabSolver:
         self.local_work = 0.0          # this rank's share of the external work
 
     def describe(self):
-        newton = self.nonlinear.newton
-        return self.linear.describe() + (f"; Newton: SNES {newton.snes.getType()}"
-                                         if newton else "")
+        return self.linear.describe() + self.nonlinear.describe()
 
     def rhs(self, forces, velocities, fields):
         """Add the slab's nodal force integrals and body forces to the
         running b and set the prescribed velocities: (nodes, values (n, 2))
         pairs in the velocity basis, global node numbers (nodes not owned
         are skipped); ``fields`` the integrals of the body forces."""
-        n0, n1 = self.space.nodes
         arr = self.b.getArray()
         self._loads = None
         nodes, per = forces
         if nodes.size:
-            own = (nodes >= n0) & (nodes < n1)
-            idx = (2 * (nodes[own] - n0)[:, None] + np.arange(2)).ravel()
+            idx, own = self._rows(nodes)
             arr[idx] += (per[own] @ self.W.T).ravel()
             self._loads = (idx, -(per[own] @ self.WT.T).ravel(), per[own])   # for advance()
-        if len(fields):
+        if fields.size:
             self.fields.add(self.b, fields)
         nodes, vals = velocities
         if nodes.size:
+            idx, own = self._rows(nodes)
             if self.reactions is not None:
                 self.reactions.hold(arr)
+                arr[idx] = (vals @ self.Vinv.T)[own].ravel()
+            else:                              # fixed nodes: zero velocities
+                arr[idx] = 0.0
+
+    def _rows(self, nodes):
+        """(local dofs of the owned ones among ``nodes``, their mask), cached
+        per node array (the loads' and constraints' nodes never change)."""
+        key = id(nodes)
+        if key not in self._row_cache:
+            n0, n1 = self.space.nodes
             own = (nodes >= n0) & (nodes < n1)
-            idx = (2 * (nodes[own] - n0)[:, None] + np.arange(2)).ravel()
-            arr[idx] = (vals @ self.Vinv.T)[own].ravel()
+            self._row_cache[key] = ((2 * (nodes[own] - n0)[:, None] + np.arange(2)).ravel(), own)
+        return self._row_cache[key]
 
     def solve(self, slab_index):
         """Solve the slab for the current b; returns (Newton its, linear its)."""
@@ -137,7 +145,7 @@ class SlabSolver:
         if self.reactions is not None:
             self.reactions.carry_after(self.b.getArray())
         if self.nonlinear.active:
-            self.nonlinear.advance(self.X, self.b, self.carry)
+            self.nonlinear.advance(self.X, self.b)
 
     def _slab_work(self):
         """Dashpots and external forces over the slab (the laws' share is
@@ -174,11 +182,18 @@ class SlabSolver:
         restored = None if envelope is None else (envelope[0][el], envelope[1][el])
         self.envelope.start(self.u, self.u_ghost, restored)
 
-    def set_rhs_state(self, b):
-        """Continue from a running right-hand side saved by rhs_state()
-        (global array), after set_state: the restart is then bit for bit."""
+    def set_restart_state(self, state):
+        """Continue from the running right-hand side saved by rhs_state()
+        (a global array) and the Newton state of the last slab
+        ({layout name: array}, from the file), after set_state: the restart
+        is then bit for bit."""
+        from vstpetsc.results.layout import NEWTON_STATE, RHS_STATE
+
         n0, n1 = self.space.nodes
-        self.b.getArray()[:] = b[2 * n0:2 * n1]
+        if RHS_STATE in state:
+            self.b.getArray()[:] = state[RHS_STATE][2 * n0:2 * n1]
+        if NEWTON_STATE in state:
+            self.nonlinear.set_newton_state(state[NEWTON_STATE])
 
     def gather_state(self):
         """(u, v) of all nodes on rank 0 (None elsewhere); v = v^2 of the

@@ -26,6 +26,8 @@ SOLVER = ("solver/newton_iterations", "solver/linear_iterations", "solver/wall_t
 INTEGER_SERIES = ("solver/newton_iterations", "solver/linear_iterations", "solver/slab")
 BODY_SERIES = ("u", "v", "stress")
 RHS_STATE = "solver/rhs_state"
+NEWTON_STATE = "solver/newton_state"    # [acted, the laws' terms f] of the last slab
+RESTART_STATE = (RHS_STATE, NEWTON_STATE)
 REQUIRED = ("time", "body", "contact", "energy", "solver")
 
 
