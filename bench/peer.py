@@ -255,3 +255,94 @@ def _impact_metrics(t, force, energy):
             "oscillation": float(plateau.std() / plateau.mean()),
             "duration": float(end - start),
             "energy_after": float((energy[-1] - energy[0]) / energy[0])}
+
+
+# -- (c) impact at equal accuracy of the contact force ----------------------
+IMPACT_GAP, IMPACT_END = 0.1, 3.0
+
+
+def _impact_text(elements, dt, k, every):
+    """The two-bar impact of `impact` as case text, penalty k given."""
+    g0 = IMPACT_GAP
+    return (f"[time]\ndt = {dt!r}\nend = {IMPACT_END!r}\n[output]\nevery = {every}\n"
+            f"[[body]]\nname = \"a\"\nx = [0.0, 1.0]\nelements = {elements}\n"
+            "E = 1.0\nrho = 1.0\nv0 = 1.0\n"
+            f"[[body]]\nname = \"b\"\nx = [{1 + g0!r}, {2 + g0!r}]\nelements = {elements}\n"
+            "E = 1.0\nrho = 1.0\n"
+            f"[[contact]]\npair = [\"a\", \"b\"]\nformulation = \"power\"\npenalty = {k!r}\n")
+
+
+def vst_impact_force(elements, dt, k, repeats=3):
+    """(slab-end times, slab-mean contact forces J/dt, best wall time of
+    `repeats` runs).  Timed runs keep only t = 0 and the last slab; the
+    forces come from one more run that keeps every slab."""
+    walls = []
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "i.h5")
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            run(_impact_text(elements, dt, k, 10**8), path)
+            walls.append(time.perf_counter() - t0)
+        run(_impact_text(elements, dt, k, 1), path)
+        with h5py.File(path) as f:
+            t, force = f["time"][:], f["contact/0/force"][:]
+    return t, force, min(walls)
+
+
+def alpha_impact_force(elements, dt, k, radius, repeats=3):
+    """(step times, contact force k max(0, -g) at each step, best wall time
+    of `repeats` runs without monitor) of TSALPHA2 on the same impact."""
+    g0, steps = IMPACT_GAP, int(round(IMPACT_END / dt))
+    lay, mesh = bars(("a", 0.0, 1.0, elements), ("b", 1 + g0, 2 + g0, elements))
+    s, m = elements, elements + 1
+    u0 = np.zeros(mesh.nnodes)
+    v0 = np.where(np.arange(mesh.nnodes) <= s, 1.0, 0.0)
+    model = AlphaBars(lay, pair=(s, m, g0, k))
+    walls = [integrate_alpha(model, u0, v0, dt, steps, radius, linear=False)[2]
+             for _ in range(repeats)]
+    force = np.zeros(steps + 1)
+
+    def monitor(ts, i, t, U):
+        force[i] = model.contact_force(U.getArray(readonly=True))
+
+    integrate_alpha(model, u0, v0, dt, steps, radius, linear=False, monitor=monitor)
+    return dt * np.arange(steps + 1), force, min(walls)
+
+
+class ForceReference:
+    """A contact force history given by its impulse I(t) (slab means exact)
+    and by point values (linear between the points given)."""
+
+    def __init__(self, t_impulse, impulse, t_point, point, norm2):
+        self.ti, self.impulse, self.tp, self.point_values = t_impulse, impulse, t_point, point
+        self.norm2 = norm2            # integral of f^2 over the whole run
+
+    @classmethod
+    def exact(cls, force=0.5, start=IMPACT_GAP, duration=2.0):
+        """The continuum, rigid-contact history: `force` on (start, start + duration)."""
+        ti = np.array([0.0, start, start + duration, 2 * IMPACT_END])
+        tp = np.array([0.0, start, start, start + duration, start + duration, 2 * IMPACT_END])
+        return cls(ti, force * np.clip(ti - start, 0, duration), tp,
+                   force * np.array([0, 0, 1, 1, 0, 0.0]), force ** 2 * duration)
+
+    @classmethod
+    def from_slab_means(cls, t, force):
+        """From a run's slab-mean forces (point values at mid-slab)."""
+        f, dt = force[1:], np.diff(t)
+        return cls(t, np.r_[0.0, np.cumsum(f * dt)], 0.5 * (t[1:] + t[:-1]), f,
+                   float(np.sum(f ** 2 * dt)))
+
+    def means(self, t):
+        return np.diff(np.interp(t, self.ti, self.impulse)) / np.diff(t)
+
+    def points(self, t):
+        return np.interp(t, self.tp, self.point_values)
+
+
+def force_error(t, force, ref, slab_mean):
+    """sqrt(int (f - f_ref)^2 dt / int f_ref^2 dt) over the whole run (the
+    contact window and any late or spurious contact), f constant on each
+    step: slab means against the reference's means over the same slabs, or
+    end-of-step values against the reference at the step ends."""
+    r = ref.means(t) if slab_mean else ref.points(t[1:])
+    return float(np.sqrt(np.sum((force[1:] - r) ** 2 * np.diff(t)) / ref.norm2))

@@ -35,4 +35,14 @@ def test_bench_quick_reports_every_field(tmp_path):
         m = res["peer"]["impact"][method]
         assert m["plateau_mean"] > 0 and m["oscillation"] >= 0 and m["wall"] > 0
     assert abs(res["peer"]["impact"]["vstfem"]["plateau_mean"] - 0.5) < 0.05
-    assert "| elements |" in (tmp_path / "README.md").read_text()
+    ov = res["overhead"]
+    assert {r["case"] for r in ov["rows"]} == {"free", "held", "impact"}
+    for row in ov["rows"]:
+        for key in ("slab_min_us", "slab_median_us", "floor_min_us", "floor_median_us",
+                    "ratio", "ratio_median"):
+            assert row[key] > 0, key
+        # the contact cases keep a pair active (the table would mean nothing otherwise)
+        assert row["active_share"] >= 0.9 or row["case"] == "free"
+    assert ov["bar_wall_min_s"] > 0
+    text = (tmp_path / "README.md").read_text()
+    assert "| elements |" in text and "| case | elements |" in text

@@ -9,7 +9,8 @@ from scipy import integrate
 from conftest import bar, make_case
 from vstpetsc import slab
 from vstpetsc.history import History
-from vstpetsc.laws.gap import closed_on_slab, gap_coefficients, pair_integrals, roots01
+from vstpetsc.laws.gap import (closed_on_slab, closed_throughout, gap_coefficients,
+                               pair_integrals, roots01)
 from vstpetsc.model import band_mult, build_model, dense
 
 
@@ -121,6 +122,22 @@ def test_pair_integrals_exact_and_tangent_matches_finite_differences(power, rng)
             dm[b] -= h
             fd = (_integrals(gn, *dp, dt, power)[0] - _integrals(gn, *dm, dt, power)[0]) / (2 * h)
             assert np.allclose(-fd, W[:, b], rtol=1e-5, atol=1e-12)
+
+
+@pytest.mark.parametrize("power", [False, True])
+def test_closed_form_of_a_gap_closed_over_the_slab(power, rng):
+    """Steady contact takes closed forms: they match the quadrature."""
+    dt, hits = 0.1, 0
+    for _ in range(40):
+        gn = rng.uniform(-0.05, -0.01)
+        d1, d2 = rng.uniform(-0.2, 0.2, size=2)
+        if not closed_throughout(*gap_coefficients(gn, d1, d2, dt)):
+            continue
+        hits += 1
+        G, W = _integrals(gn, d1, d2, dt, power)
+        Gr, Wr = _quad_reference(gn, d1, d2, dt, power)
+        assert np.allclose(G, Gr, rtol=1e-12, atol=0) and np.allclose(W, Wr, rtol=1e-12, atol=0)
+    assert hits > 30
 
 
 def test_barely_closed_pair_is_integrated_accurately():

@@ -4,6 +4,8 @@ dashpots' work, the external work and what the contact laws and the soil
 took; ``numerical`` is what is left, the energy of the velocity jumps at
 slab starts.  Pure numpy."""
 
+import numpy as np
+
 from vstpetsc import model as model_mod
 
 SUMMED = ("damping", "external", "contact", "soil")
@@ -17,12 +19,31 @@ class EnergyBook:
         self.model = model
         self.initial = 0.0
         self.offset = dict.fromkeys(SUMMED, 0.0)
+        ops = model.ops
+        self.m_diag, self.m_off = ops.m_diag, ops.m_off
+        self.stiffness = -ops.k_off              # E A / h of the node pairs (0 between bodies)
+        n = ops.m_diag.size
+        self.squares, self.products = np.empty(n), np.empty(max(n - 1, 0))
+        self.sprung = ops.sprung
+        self._v = None
 
-    def state(self, u, v):
-        ops = self.model.ops
-        return {"kinetic": model_mod.kinetic_energy(ops, v),
-                "strain": model_mod.strain_energy(ops, u),
-                "spring": model_mod.spring_energy(ops, u)}
+    def state(self, u, v, d=None):
+        """Kinetic 1/2 v^T M v, strain 1/2 u^T K u = sum 1/2 (E A / h) d^2
+        over the elements (d: the elongations u_{i+1} - u_i, from u when
+        None) and spring energy."""
+        sq, pr = self.squares, self.products
+        np.multiply(v, v, out=sq)
+        kinetic = 0.5 * float(self.m_diag.dot(sq))
+        if v is not self._v:             # one rank: the solver's array every row
+            self._v, self._left, self._right = v, v[:-1], v[1:]
+        np.multiply(self._left, self._right, out=pr)
+        kinetic += float(self.m_off.dot(pr))
+        if d is None:
+            d = np.subtract(u[1:], u[:-1], out=pr)
+        np.multiply(d, d, out=pr)
+        spring = model_mod.spring_energy(self.model.ops, u) if self.sprung else 0.0
+        return {"kinetic": kinetic, "strain": 0.5 * float(self.stiffness.dot(pr)),
+                "spring": spring}
 
     def start(self, u, v):
         """t = 0: the initial total, stored contact energy included."""
@@ -37,11 +58,14 @@ class EnergyBook:
         self.initial = sum(float(first[k]) for k in ("kinetic", "strain", "spring", "contact"))
         self.offset = {k: float(last[k]) for k in SUMMED}
 
-    def row(self, u, v, totals):
-        """{energy dataset: value} for the state (u, v) and the solver's
-        sums ``totals`` since this run started."""
-        out = self.state(u, v)
-        out.update({k: self.offset[k] + totals.get(k, 0.0) for k in SUMMED})
-        held = sum(out[k] for k in KEYS if k not in ("external", "numerical"))
+    def row(self, u, v, totals, d=None):
+        """{energy dataset: value} for the state (u, v) (d: elongations, see
+        :meth:`state`) and the solver's sums ``totals`` since this run
+        started."""
+        out = self.state(u, v, d)
+        for key in SUMMED:
+            out[key] = self.offset[key] + totals.get(key, 0.0)
+        held = (out["kinetic"] + out["strain"] + out["spring"] + out["damping"]
+                + out["contact"] + out["soil"])
         out["numerical"] = self.initial + out["external"] - held
         return out

@@ -21,6 +21,7 @@ class Recorder:
         self.size = comm.getSize()
         self.interval = interval
         self.writer, self.lock = None, None
+        self.rows = layout.RowFiller(model)
         self.start = time.perf_counter()
 
     def _agree(self, action):
@@ -56,14 +57,14 @@ class Recorder:
         locked file of a restart."""
         from vstpetsc.results.writer import ResultWriter
 
-        model, dt = self.model, model_dt(self.model)
+        model = self.model
         snapshots = self._snapshots(rhs=False)          # collective
 
         def create():
             if restart:
                 self.writer = ResultWriter.reopen(self.lock, attrs, self.interval)
                 return
-            first = layout.row(model, 0, dt, u, v, (0, 0), 0.0, self.energy.row(u, v, {}))
+            first = self.rows.row(0, u, v, (0, 0), 0.0, self.energy.row(u, v, {}))
             self.writer = ResultWriter.create(
                 self.output, layout.series(model), layout.statics(model),
                 layout.group_attrs(model), attrs, first, self.interval, snapshots)
@@ -90,9 +91,10 @@ class Recorder:
         energy = None
         if self.rank0:
             u, v = state
-            energy = self.energy.row(u, v, totals)
-            self.writer.append(layout.row(self.model, k, model_dt(self.model), u, v, its,
-                                          time.perf_counter() - self.start, energy))
+            d = self.solver.elongation()
+            energy = self.energy.row(u, v, totals, d)
+            buffers, i = self.writer.slot()
+            self.rows.fill(buffers, i, k, u, v, its, time.perf_counter() - self.start, energy, d)
         if self.space.max_over_ranks(int(self.rank0 and self.writer.due())):
             self.flush(k)
         return energy
@@ -120,10 +122,6 @@ class Recorder:
         if self.writer:
             writer, self.writer = self.writer, None
             writer.close(status, snapshots, slab, slabs_done=slab, **attrs)
-
-
-def model_dt(model):
-    return model.case.dt
 
 
 def load_restart(path, case, model, energy):

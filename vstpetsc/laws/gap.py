@@ -48,9 +48,13 @@ def roots01(a0, a1, a2):
 
 
 def closed_on_slab(gn, d1, d2, dt):
-    """Whether g < 0 somewhere in the slab (the end points and the vertex
-    of the parabola are its only candidates for a minimum)."""
-    a0, a1, a2 = gap_coefficients(gn, d1, d2, dt)
+    """Whether g < 0 somewhere in the slab."""
+    return closed_somewhere(*gap_coefficients(gn, d1, d2, dt))
+
+
+def closed_somewhere(a0, a1, a2):
+    """Whether g < 0 somewhere in [0, 1] (the end points and the vertex of
+    the parabola are its only candidates for a minimum)."""
     if a0 < 0.0 or a0 + a1 + a2 < 0.0:
         return True
     if a2 > 0.0:
@@ -59,14 +63,38 @@ def closed_on_slab(gn, d1, d2, dt):
     return False
 
 
+def closed_throughout(a0, a1, a2):
+    """Whether g < 0 on the whole slab [0, 1]."""
+    if a0 >= 0.0 or a0 + a1 + a2 >= 0.0:
+        return False
+    if a2 < 0.0:                 # concave: its vertex may rise above zero inside
+        t = -a1 / (2.0 * a2)
+        return not (0.0 < t < 1.0 and a0 + t * (a1 + t * a2) >= 0.0)
+    return True
+
+
 def pair_integrals(gn, d1, d2, dt, power):
     """Exact penalty integrals of one pair over one slab.
 
     Returns (G1, G2, W11, W12, W21, W22) with G_a = int min(0, g) phi_a dt
     and W_ab = int_active phi_a I_b dt (= -dG_a / dd^b), or None when g >= 0
     on the whole slab.  ``power`` picks phi = T (else I, the seed's).
+    A gap closed over the whole slab (steady contact) has closed forms: the
+    moments of T_a and I_a and the products T_a I_b, I_a I_b on [0, 1].
     """
     a0, a1, a2 = gap_coefficients(gn, d1, d2, dt)
+    if closed_throughout(a0, a1, a2):
+        if power:
+            w = dt * dt
+            return (dt * (a0 / 2.0 + a1 / 6.0 + a2 / 12.0),
+                    dt * (a0 / 2.0 + a1 / 3.0 + a2 / 4.0),
+                    w / 8.0, w / 24.0, 5.0 * w / 24.0, w / 8.0)
+        w = dt * dt * dt
+        return (dt * dt * (a0 / 3.0 + 5.0 * a1 / 24.0 + 3.0 * a2 / 20.0),
+                dt * dt * (a0 / 6.0 + a1 / 8.0 + a2 / 10.0),
+                2.0 * w / 15.0, 3.0 * w / 40.0, 3.0 * w / 40.0, w / 20.0)
+    if not closed_somewhere(a0, a1, a2):
+        return None
     edges = (0.0,) + roots01(a0, a1, a2) + (1.0,)
     G1 = G2 = W11 = W12 = W21 = W22 = 0.0
     hit = False

@@ -22,6 +22,7 @@ class FieldTerms:
         self.varying = [f.vector[n0:n1].copy() for f in loads.varying]
         self.constant = [(f.vector[n0:n1].copy(), float(f.history.f[0])) for f in loads.constant]
         self.open = None           # integrals of the open slab, for advance()
+        self.active = bool(self.varying or self.constant)
 
     @staticmethod
     def _add(arr, p, coef):
@@ -29,23 +30,21 @@ class FieldTerms:
         rows[:, 0] += p * coef[0]
         rows[:, 1] += p * coef[1]
 
-    def fold(self, b):
-        """Add the constant body forces to the running sum, once."""
-        arr = b.getArray()
+    def fold(self, arr):
+        """Add the constant body forces to the running sum (its local
+        array), once."""
         for p, g in self.constant:
             self._add(arr, p, self.W @ (0.5 * self.dt * g * np.ones(2)))
 
-    def add(self, b, integrals):
+    def add(self, arr, integrals):
         """The slab's body forces with a history (integrals (m, 2))."""
         self.open = integrals
-        arr = b.getArray()
         for p, h in zip(self.varying, integrals):
             self._add(arr, p, self.W @ h)
 
-    def carry(self, b):
+    def carry(self, arr):
         """Close the slab: -W T (int T_a h) on the running sum."""
         if self.open is not None:
-            arr = b.getArray()
             for p, h in zip(self.varying, self.open):
                 self._add(arr, p, -(self.WT @ h))
 

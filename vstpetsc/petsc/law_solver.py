@@ -6,10 +6,11 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.lawset import LawSet
-from vstpetsc.petsc.newton import Coupling, Full, Plain, SnesCondensed
+from vstpetsc.petsc.newton import Coupling, Full, SnesCondensed
 from vstpetsc.petsc.options import PREFIX
+from vstpetsc.reduced_newton import ReducedNewton
 
-# Plain Newton reads these itself; any other -snes_* option (a monitor, a
+# ReducedNewton reads these itself; any other -snes_* option (a monitor, a
 # line search, -snes_test_jacobian) asks for PETSc's SNES.
 PLAIN_OPTIONS = ("snes_rtol", "snes_atol", "snes_stol", "snes_max_it")
 
@@ -36,7 +37,7 @@ class LawSolver:
             return
         space = solver.space
         self.coupling = Coupling(self.laws, solver.X, space.nodes, solver.W, solver.V,
-                                 solver.linear, solver.carry)
+                                 solver.linear, solver.carry, solver.x)
         if options.newton == "full":
             self.newton = Full(self.coupling, options.fd_jacobian, solver.A, solver.linear,
                                space)
@@ -44,7 +45,11 @@ class LawSolver:
             self.newton = SnesCondensed(self.coupling, options.fd_jacobian,
                                         space.comm.getRank())
         else:
-            self.newton = Plain(self.coupling)
+            opts = PETSc.Options()
+            self.newton = ReducedNewton(self.laws, self.coupling.S_red,
+                                        rtol=opts.getReal(PREFIX + "snes_rtol", 1e-12),
+                                        atol=opts.getReal(PREFIX + "snes_atol", 1e-50),
+                                        max_it=opts.getInt(PREFIX + "snes_max_it", 30))
 
     def solve(self, X, b, dt, slab_index):
         """Newton if a law acts for the law-free solution X (updated in
@@ -69,7 +74,7 @@ class LawSolver:
             X.maxpy(-laws.f, self.coupling.Zred)
         self.f[:] = laws.f
         self.acted = True
-        self.work += float(self.f @ y)
+        self.work += sum(float(f) * float(v) for f, v in zip(self.f, y))
         return self.newton.iterations
 
     def advance(self, X, b):
@@ -83,7 +88,7 @@ class LawSolver:
         """The Newton in use, for the run header."""
         if self.newton is None:
             return ""
-        if isinstance(self.newton, Plain):
+        if isinstance(self.newton, ReducedNewton):
             return f"; Newton: plain, on the laws' {self.laws.reduced} coordinates"
         where = "all unknowns" if isinstance(self.newton, Full) else \
             f"the laws' {self.laws.reduced} coordinates"

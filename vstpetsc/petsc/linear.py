@@ -1,6 +1,8 @@
 """The linear slab solve: a KSP (prefix ``vst_``) on the slab matrix A,
 factored once per run."""
 
+import math
+
 import numpy as np
 from petsc4py import PETSc
 
@@ -66,14 +68,14 @@ class LinearSolver:
                               f"({reason_name(PETSc.KSP.ConvergedReason, reason)})")
         self.count += max(1, self.ksp.getIterationNumber())
 
-    def finite(self, x):
-        """Whether x is finite.  On one rank its first entry says it: an LU
-        solve carries a NaN or Inf anywhere in b or the factors into every
-        entry of the backward sweep (0 * NaN is NaN), so no pass over x."""
+    def finite(self, x, array):
+        """Whether x (stored in ``array``) is finite.  On one rank its first
+        entry says it: an LU solve carries a NaN or Inf anywhere in b or the
+        factors into every entry of the backward sweep (0 * NaN is NaN), so
+        no pass over x."""
         if not self.serial_direct:
             return np.isfinite(x.norm())
-        arr = x.getArray(readonly=True)
-        return arr.size == 0 or np.isfinite(arr[0])
+        return array.size == 0 or math.isfinite(array[0])
 
     def describe(self):
         """One line naming the linear solver actually in use."""

@@ -7,8 +7,9 @@ columns, once per run) and S = P^T E^T A^{-1} E P (in the velocity basis):
 
 - condensed (default): with x0 = A^{-1} b (the law-free solve) the solution
   is x = x0 - Z P f(y), where y solves the 2L-dimensional
-  r(y) = y - y0 + S f(y) = 0 with Jacobian I + S f'(y).  :class:`Plain`
-  runs this Newton in plain floats (2 unknowns a pair);
+  r(y) = y - y0 + S f(y) = 0 with Jacobian I + S f'(y).
+  :class:`vstpetsc.reduced_newton.ReducedNewton` runs this Newton in plain
+  floats (2 unknowns a pair);
   :class:`SnesCondensed` hands the same system to a SNES (for
   ``-vst_fd_jacobian`` and SNES monitors and line searches);
 - :class:`Full` (``-vst_newton full``): SNES on all unknowns, J a shell
@@ -56,7 +57,7 @@ class Coupling:
     """The laws' dofs E and coordinates y in the solver's space, and the
     run-constant pieces of the condensed system."""
 
-    def __init__(self, lawset, template, nodes, W, V, linear, carry):
+    def __init__(self, lawset, template, nodes, W, V, linear, carry, array=None):
         self.lawset = lawset
         self.gather = DofGather(template, lawset.dofs, nodes)
         k, P = lawset.size, lawset.P
@@ -80,9 +81,12 @@ class Coupling:
             z.maxpy(combine[:, j], self.Z)
             self.Zred.append(z)
         self.carry_rows = np.kron(np.eye(k // 2), carry) @ combine
-        # one rank holds every dof: read them straight from X (on several
-        # ranks every rank takes part in the gather, whoever owns the dofs)
-        self.local = self.gather.local if template.getComm().getSize() == 1 else None
+        # one rank holds every dof: read them straight from the solution's
+        # ``array`` (on several ranks every rank takes part in the gather,
+        # whoever owns the dofs)
+        serial = template.getComm().getSize() == 1 and array is not None
+        self.local = self.gather.local if serial else None
+        self.array = array
 
     def velocities(self, X):
         """(v^1, v^2) of the laws' nodes at iterate X (on every rank)."""
@@ -91,136 +95,14 @@ class Coupling:
     def coordinates(self, X):
         """The reduced coordinates y at X (on every rank)."""
         if self.local is not None:           # one rank: read X directly
-            return self.R0 @ X.getArray(readonly=True)[self.local]
+            return self.R0 @ self.array[self.local]
         return self.R0 @ self.gather(X)
 
     def increments(self, X):
         """z_2 (the displacement increments) of the laws' nodes at X."""
         if self.local is not None:
-            return X.getArray(readonly=True)[self.local[1::2]]
+            return self.array[self.local[1::2]]
         return self.gather(X)[1::2]
-
-
-class Plain:
-    """Newton on y in plain floats: full steps, halved while the residual
-    does not fall.  One law (two coordinates) runs in Python floats, more
-    in numpy.  Converged when max |r| <= max(atol, rtol (max |y0| + max
-    |S f|)); tolerances from the options database (-snes_rtol, -snes_atol,
-    -snes_max_it, as given to the run)."""
-
-    def __init__(self, coupling):
-        self.c, self.laws = coupling, coupling.lawset
-        opts = PETSc.Options()
-        self.rtol = opts.getReal(PREFIX + "snes_rtol", 1e-12)
-        self.atol = opts.getReal(PREFIX + "snes_atol", 1e-50)
-        self.max_it = opts.getInt(PREFIX + "snes_max_it", 30)
-        self.iterations = 0
-        self.pair = self.laws.laws[0] if self.laws.reduced == 2 else None
-        self.S = tuple(float(x) for x in self.c.S_red.ravel()) if self.pair else None
-
-    def solve(self, y0, slab_index, start=None):
-        """y with r(y) = 0 from ``start`` (default y0); the laws' last
-        evaluation is at it."""
-        if self.pair is not None:
-            y1, y2 = self._solve_pair(float(y0[0]), float(y0[1]), slab_index,
-                                      start if start is not None else y0)
-            return np.array((y1, y2))
-        return self._solve_many(y0, slab_index, y0.copy() if start is None else start)
-
-    def _fail(self, slab_index, norm):
-        raise SolveFailed(f"slab {slab_index}: Newton did not converge (DIVERGED_MAX_IT "
-                          f"after {self.max_it} Newton iterations, residual {norm:.3g})")
-
-    def _pair_residual(self, y1, y2, y01, y02):
-        """(r1, r2, the law's terms or None, max |S f|) at (y1, y2)."""
-        s11, s12, s21, s22 = self.S
-        out = self.pair.force(y1, y2)
-        if out is None:
-            return y1 - y01, y2 - y02, None, 0.0
-        sf1 = s11 * out[0] + s12 * out[1]
-        sf2 = s21 * out[0] + s22 * out[1]
-        return y1 - y01 + sf1, y2 - y02 + sf2, out, max(abs(sf1), abs(sf2))
-
-    def _solve_pair(self, y01, y02, slab_index, start):
-        s11, s12, s21, s22 = self.S
-        y1, y2 = float(start[0]), float(start[1])
-        r1, r2, out, sf = self._pair_residual(y1, y2, y01, y02)
-        if out is None:
-            # a start where the law does nothing: its Newton step would go
-            # straight back to the law-free y0, where we know it acts
-            y1, y2 = y01, y02
-            r1, r2, out, sf = self._pair_residual(y1, y2, y01, y02)
-        size = max(abs(y01), abs(y02))
-        for it in range(self.max_it + 1):
-            norm = max(abs(r1), abs(r2))
-            if norm <= max(self.atol, self.rtol * (size + sf)):
-                self.iterations = it
-                self._keep(out)
-                return y1, y2
-            if it == self.max_it:
-                break
-            # (I + S J) step = r, J = out[2:] (zero when nothing acts)
-            j11, j12, j21, j22 = out[2:] if out is not None else (0.0, 0.0, 0.0, 0.0)
-            m11, m12 = 1.0 + s11 * j11 + s12 * j21, s11 * j12 + s12 * j22
-            m21, m22 = s21 * j11 + s22 * j21, 1.0 + s21 * j12 + s22 * j22
-            det = m11 * m22 - m12 * m21
-            if det == 0.0 or not math.isfinite(det):
-                break
-            d1, d2 = (m22 * r1 - m12 * r2) / det, (m11 * r2 - m21 * r1) / det
-            lam = 1.0
-            for _ in range(20):         # halve while the residual does not fall
-                t1, t2 = y1 - lam * d1, y2 - lam * d2
-                q1, q2, q_out, q_sf = self._pair_residual(t1, t2, y01, y02)
-                if max(abs(q1), abs(q2)) < norm or lam < 1e-5:
-                    break
-                lam *= 0.5
-            y1, y2, r1, r2, out, sf = t1, t2, q1, q2, q_out, q_sf
-        self._keep(out)
-        self._fail(slab_index, norm)
-
-    def _keep(self, out):
-        """The laws' terms (and the pair's record) at the last evaluation."""
-        f = self.laws.f
-        if out is None:
-            f[0] = f[1] = 0.0
-        else:
-            f[0], f[1] = out[0], out[1]
-
-    def _solve_many(self, y0, slab_index, y):
-        S = self.c.S_red
-        r = self._residual(y, y0)
-        if not self.laws.f.any():          # as in _solve_pair
-            y = y0.copy()
-            r = self._residual(y, y0)
-        for it in range(self.max_it + 1):
-            norm = float(np.abs(r).max())
-            scale = float(np.abs(y0).max() + np.abs(S @ self.laws.f).max())
-            if norm <= max(self.atol, self.rtol * scale):
-                self.iterations = it
-                return y
-            if it == self.max_it:
-                break
-            try:
-                step = np.linalg.solve(np.eye(y.size) + S @ self.laws.jac, r)
-            except np.linalg.LinAlgError:
-                break
-            y, r = self._line(y, y0, step, norm)
-        self._fail(slab_index, norm)
-
-    def _residual(self, y, y0):
-        self.laws.evaluate(y)
-        return y - y0 + self.c.S_red @ self.laws.f
-
-    def _line(self, y, y0, step, norm):
-        """Full step, halved (up to 20 times) while the residual grows."""
-        lam = 1.0
-        for _ in range(20):
-            trial = y - lam * step
-            r = self._residual(trial, y0)
-            if float(np.abs(r).max()) < norm or lam < 1e-5:
-                return trial, r
-            lam *= 0.5
-        return trial, r
 
 
 class SnesCondensed:
@@ -245,7 +127,7 @@ class SnesCondensed:
         self.iterations = 0
 
     def _converged(self, snes, it, norms):
-        """Plain's test (in 2-norms): |r| <= max(atol, rtol (|y0| + |S f|)),
+        """ReducedNewton's test (in 2-norms): |r| <= max(atol, rtol (|y0| + |S f|)),
         with the SNES's tolerances (the options database has the last word).
         A relative decrease alone cannot be met when the start is already
         near the root (a warm start), the residual then at rounding level."""
@@ -278,21 +160,27 @@ class SnesCondensed:
 
     def solve(self, y0, slab_index, start=None):
         self.y0 = y0
-        if start is not None:               # as in Plain._solve_pair
+        if start is not None:               # as in ReducedNewton.solve
             self.laws.evaluate(start)
             if not self.laws.f.any():
                 start = None
         self.vec.array = y0 if start is None else start
-        self.snes.solve(None, self.vec)
-        reason = self.snes.getConvergedReason()
-        self.iterations = self.snes.getIterationNumber()
-        if reason <= 0:
-            raise SolveFailed(f"slab {slab_index}: SNES did not converge "
-                              f"({reason_name(PETSc.SNES.ConvergedReason, reason)}"
-                              f" after {self.iterations} Newton iterations)")
+        self.iterations = solve_checked(self.snes, self.vec, slab_index)
         y = self.vec.getArray(readonly=True).copy()
         self.laws.evaluate(y)
         return y
+
+
+def solve_checked(snes, vec, slab_index):
+    """Solve with ``snes`` from ``vec``; its Newton iterations, or
+    SolveFailed naming the slab."""
+    snes.solve(None, vec)
+    reason, iterations = snes.getConvergedReason(), snes.getIterationNumber()
+    if reason <= 0:
+        raise SolveFailed(f"slab {slab_index}: SNES did not converge "
+                          f"({reason_name(PETSc.SNES.ConvergedReason, reason)}"
+                          f" after {iterations} Newton iterations)")
+    return iterations
 
 
 class _Dense:
@@ -329,13 +217,7 @@ class Full:
     def solve_full(self, X, b, slab_index):
         self.b = b
         self.C[:] = 0.0
-        self.snes.solve(None, X)
-        reason = self.snes.getConvergedReason()
-        self.iterations = self.snes.getIterationNumber()
-        if reason <= 0:
-            raise SolveFailed(f"slab {slab_index}: SNES did not converge "
-                              f"({reason_name(PETSc.SNES.ConvergedReason, reason)}"
-                              f" after {self.iterations} Newton iterations)")
+        self.iterations = solve_checked(self.snes, X, slab_index)
 
     def formFunction(self, snes, X, F):
         self.A.mult(X, F)

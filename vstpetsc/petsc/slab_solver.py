@@ -55,9 +55,14 @@ class SlabSolver:
         self.A = block_matrix(slab.impose_dirichlet(slab.slab_matrix(ops, dt, self.W, self.V),
                                                     fixed, 1.0), nodes, comm, options.mat_type)
         self.ops = ops
-        self.Y = self.space.vector()    # (u, v) per node, for input and output
-        self.X = self.space.vector()    # slab unknowns z per node
-        self.b = self.X.duplicate()     # W r: the running right-hand side
+        # vectors stored in numpy arrays of ours (the per-slab numpy work
+        # uses the arrays, PETSc the vectors)
+        self.Y, self.y = self.space.array_vector()    # (u, v) per node, for output
+        self.X, self.x = self.space.array_vector()    # slab unknowns z per node
+        self.b, self.br = self.space.array_vector()   # W r: the running right-hand side
+        self.v = np.zeros(n1 - n0)      # v^2 of the owned nodes, formed for output
+        self._z, self._V1 = self.x.reshape(-1, 2), self.V[1].copy()
+        self.serial = comm.getSize() == 1
         self.G = Increment(ops, dt, self.space, self.b)
         self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
         self._loads = None              # (local dofs, -W T f, f) of the open slab
@@ -83,7 +88,7 @@ class SlabSolver:
         running b and set the prescribed velocities: (nodes, values (n, 2))
         pairs in the velocity basis, global node numbers (nodes not owned
         are skipped); ``fields`` the integrals of the body forces."""
-        arr = self.b.getArray()
+        arr = self.br
         self._loads = None
         nodes, per = forces
         if nodes.size:
@@ -91,7 +96,7 @@ class SlabSolver:
             arr[idx] += (per[own] @ self.W.T).ravel()
             self._loads = (idx, -(per[own] @ self.WT.T).ravel(), per[own])   # for advance()
         if fields.size:
-            self.fields.add(self.b, fields)
+            self.fields.add(arr, fields)
         nodes, vals = velocities
         if nodes.size:
             idx, own = self._rows(nodes)
@@ -118,7 +123,7 @@ class SlabSolver:
         newton = 0
         if self.nonlinear.active:
             newton = self.nonlinear.solve(self.X, self.b, self.dt, slab_index)
-        if not self.linear.finite(self.X):
+        if not self.linear.finite(self.X, self.x):
             raise SolveFailed(f"slab {slab_index}: the solution is not finite")
         return newton, self.linear.count - count
 
@@ -127,32 +132,33 @@ class SlabSolver:
         minus the force terms, u += z_2 (slab.recurrence)."""
         self._slab_work()
         # u first: the end of the backward sweep left z in cache
-        np.add(self.u, self.X.getArray(readonly=True)[1::2], out=self.u)
+        np.add(self.u, self.x[1::2], out=self.u)
         if self.space.comm.getSize() > 1:       # collective, also without a ghost
             ghost = self.ghost(self.X)
             if self.envelope.ghost:
                 self.u_ghost += ghost[0]
         self.envelope.update(self.u, self.u_ghost)
-        arr = self.b.getArray()
+        arr = self.br
         if self.reactions is not None:
             self.reactions.carry(arr)
         self.G.add_to(self.X, self.b)
-        arr = self.b.getArray()
         if self._loads is not None:
             arr[self._loads[0]] += self._loads[1]
             self._loads = None
-        self.fields.carry(self.b)
+        self.fields.carry(arr)
         if self.reactions is not None:
-            self.reactions.carry_after(self.b.getArray())
+            self.reactions.carry_after(arr)
         if self.nonlinear.active:
             self.nonlinear.advance(self.X, self.b)
 
     def _slab_work(self):
         """Dashpots and external forces over the slab (the laws' share is
         summed in _solve_laws)."""
-        self.work["damping"] += self.damping(self.X)
-        x = self.X.getArray(readonly=True)
-        self.local_work += self.fields.work(x)
+        if self.damping.D is not None:
+            self.work["damping"] += self.damping(self.X)
+        x = self.x
+        if self.fields.active:
+            self.local_work += self.fields.work(x)
         if self._loads is not None:
             idx, _, per = self._loads
             self.local_work += float(np.sum(per * (x[idx].reshape(-1, 2) @ self.V.T)))
@@ -172,8 +178,8 @@ class SlabSolver:
         element continues a restart's envelopes."""
         n0, n1 = self.space.nodes
         R = slab.rhs_operator(self.ops, self.dt, self.W)
-        self.b.getArray()[:] = slab.apply_blocks(R, np.column_stack([u, v]), n0, n1).ravel()
-        self.fields.fold(self.b)
+        self.br[:] = slab.apply_blocks(R, np.column_stack([u, v]), n0, n1).ravel()
+        self.fields.fold(self.br)
         self.u[:] = u[n0:n1]
         self._loads = None
         self.nonlinear.set_state(u)
@@ -191,18 +197,27 @@ class SlabSolver:
 
         n0, n1 = self.space.nodes
         if RHS_STATE in state:
-            self.b.getArray()[:] = state[RHS_STATE][2 * n0:2 * n1]
+            self.br[:] = state[RHS_STATE][2 * n0:2 * n1]
         if NEWTON_STATE in state:
             self.nonlinear.set_newton_state(state[NEWTON_STATE])
 
     def gather_state(self):
         """(u, v) of all nodes on rank 0 (None elsewhere); v = v^2 of the
-        last slab."""
-        y = self.Y.getArray().reshape(-1, 2)
+        last slab.  On one rank these are the solver's own arrays, valid
+        until the next slab."""
+        np.matmul(self._z, self._V1, out=self.v)
+        if self.serial:
+            return self.u, self.v
+        y = self.y.reshape(-1, 2)
         y[:, 0] = self.u
-        y[:, 1] = self.X.getArray(readonly=True).reshape(-1, 2) @ self.V[1]
+        y[:, 1] = self.v
         y = self.space.to_rank0(self.Y)
         return None if y is None else (y[0::2].copy(), y[1::2].copy())
+
+    def elongation(self):
+        """u_{i+1} - u_i of every node pair after the last slab, on one rank
+        (the envelopes' own; None on several ranks)."""
+        return self.envelope.buf if self.serial else None
 
     def rhs_state(self):
         """The running right-hand side of all dofs on rank 0 (None

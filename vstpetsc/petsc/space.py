@@ -22,6 +22,16 @@ class Space:
     def vector(self):
         return self.da.createGlobalVec()
 
+    def array_vector(self):
+        """(vec, array): a global vector of the DMDA's layout stored in a
+        numpy array of ours, so that the per-slab numpy work reads and
+        writes it without VecGetArray (0.7 us a call)."""
+        n0, n1 = self.nodes
+        array = np.zeros(2 * (n1 - n0))
+        vec = PETSc.Vec().createWithArray(array, size=(array.size, PETSc.DECIDE), bsize=2,
+                                          comm=self.comm)
+        return vec, array
+
     def to_rank0(self, vec):
         """All entries of ``vec`` in node order on rank 0 (None elsewhere)."""
         if self._to_zero is None:

@@ -13,7 +13,6 @@ their names from here.
 import numpy as np
 
 from vstpetsc import energy as energy_mod
-from vstpetsc import model as model_mod
 
 TIME = "time"
 BODY = "body"
@@ -86,24 +85,80 @@ def read_envelopes(f, model):
     return f[ELONGATION[0]][...], f[ELONGATION[1]][...]
 
 
-def row(model, k, dt, u, v, its, wall, energy):
-    """{dataset name: value} of the kept slab ``k`` from the nodal u and v
-    and the energies (an EnergyBook row)."""
-    mesh = model.mesh
-    out = {TIME: k * dt, "solver/slab": k,
-           "solver/newton_iterations": its[0], "solver/linear_iterations": its[1],
-           "solver/wall_time": wall}
-    out.update({f"energy/{key}": val for key, val in energy.items()})
-    stress = model_mod.element_stress(mesh, u)
-    for b, body in enumerate(model.case.bodies):
-        nodes = mesh.nodes(b)
-        out[body_path(body.name, "u")] = u[nodes]
-        out[body_path(body.name, "v")] = v[nodes]
-        out[body_path(body.name, "stress")] = stress[mesh.elements(b)]
-    for law in model.recorded:
-        for key, val in law.values(u).items():
-            out[f"{law.group}/{key}"] = val
-    return out
+class RowFiller:
+    """Writes kept rows (the series of :func:`series`) straight into a
+    writer's buffers from the state on rank 0: a pass per body and dataset
+    into the buffer's row, no intermediate arrays.  Stress is the elongation
+    times E / h (as the envelopes), from the solver's elongation when it has
+    one (one rank)."""
+
+    def __init__(self, model):
+        mesh = model.mesh
+        self.dt = model.case.dt
+        self.bodies = []
+        for b, body in enumerate(model.case.bodies):
+            nodes = mesh.nodes(b)
+            self.bodies.append((body_path(body.name, "u"), body_path(body.name, "v"),
+                                body_path(body.name, "stress"), nodes,
+                                slice(nodes.start, nodes.stop - 1),
+                                (mesh.E / mesh.h)[mesh.elements(b)]))
+        self.laws = [(law, [(f"{law.group}/{key}", key) for key in law.series])
+                     for law in model.recorded]
+        self.energy = [(f"energy/{key}", key) for key in energy_mod.KEYS]
+        self.d = np.empty(max(mesh.nnodes - 1, 0))
+        self.series = series(model)
+        self._buffers = self._state = None
+
+    def _bind(self, buffers):
+        """The target arrays of ``buffers``, looked up once per buffer set."""
+        self._buffers = buffers
+        self._scalars = [buffers[n] for n in (TIME, "solver/slab", "solver/newton_iterations",
+                                              "solver/linear_iterations", "solver/wall_time")]
+        self._energy = [(buffers[name], key) for name, key in self.energy]
+        self._bodies = [(buffers[nu], buffers[nv], buffers[ns], nodes, pairs, factor)
+                        for nu, nv, ns, nodes, pairs, factor in self.bodies]
+        self._laws = [(law, [(buffers[name], key) for name, key in names])
+                      for law, names in self.laws]
+
+    def _views(self, u, v, d):
+        """Per body (u, v, d) views, kept while the arrays are the same (on
+        one rank the solver's own, every row)."""
+        if self._state is None or self._state[0] is not u or self._state[1] is not v \
+                or self._state[2] is not d:
+            views = [(u[nodes], v[nodes], d[pairs]) for _, _, _, nodes, pairs, _ in self.bodies]
+            self._state = (u, v, d, views)
+        return self._state[3]
+
+    def fill(self, buffers, i, k, u, v, its, wall, energy, d=None):
+        """Row ``i`` of ``buffers`` ({series name: array}) for the kept slab
+        ``k``: nodal u and v of all nodes, (Newton, linear) iterations,
+        the wall time, the energies (an EnergyBook row) and the elongation
+        d of every node pair (computed from u when None)."""
+        if buffers is not self._buffers:
+            self._bind(buffers)
+        time_, slab, newton, linear, wall_ = self._scalars
+        time_[i], slab[i], wall_[i] = k * self.dt, k, wall
+        newton[i], linear[i] = its
+        for target, key in self._energy:
+            target[i] = energy[key]
+        if d is None:
+            d = np.subtract(u[1:], u[:-1], out=self.d)
+        views = self._views(u, v, d)
+        for (bu, bv, bs, _, _, factor), (vu, vv, vd) in zip(self._bodies, views):
+            bu[i] = vu
+            bv[i] = vv
+            np.multiply(vd, factor, out=bs[i])
+        for law, targets in self._laws:
+            values = law.values(u)
+            for target, key in targets:
+                target[i] = values[key]
+
+    def row(self, k, u, v, its, wall, energy, d=None):
+        """{series name: value} of one row (for a single row; the run fills
+        the writer's buffers)."""
+        out = {name: np.zeros((1,) + tail) for name, tail in self.series}
+        self.fill(out, 0, k, u, v, its, wall, energy, d)
+        return {name: value[0] for name, value in out.items()}
 
 
 def last_state(f, model):

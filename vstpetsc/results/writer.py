@@ -29,6 +29,7 @@ from vstpetsc.results import layout
 from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
 
 BUFFER_VALUES = 1 << 21          # doubles per series buffer (16 MB)
+BUFFER_ROWS = 1 << 13            # rows a block holds at most (a block costs ~3 ms)
 MARGIN = 1 << 18                 # bytes reserved beyond a block's estimate
 _UNCLOSABLE = []                 # files HDF5 failed to write: never closed
 
@@ -53,6 +54,7 @@ class ResultWriter:
         self.f, self.lock, self.interval = f, lock, interval
         self.reserve = DiskReserve(fd)
         self.series, self.buffers = {}, {}
+        self.snapshots = {}                      # name: low-level handles
         self.capacity = None
         self.n = self.f[layout.TIME].shape[0]   # rows in the file
         self.pending = 0                         # rows in the buffers
@@ -114,20 +116,28 @@ class ResultWriter:
         for name, ds in _series_of(self.f):
             tail = ds.shape[1:]
             width = max(1, int(np.prod(tail)))
-            rows = max(1, min(1024, BUFFER_VALUES // width))
+            rows = max(1, min(BUFFER_ROWS, BUFFER_VALUES // width))
             chunk = (ds.chunks[0], int(np.prod(ds.chunks)) * ds.dtype.itemsize)
             self.series[name] = (ds.id, tail, chunk)
-            self.buffers[name] = np.empty((rows,) + tail, dtype=ds.dtype)
+            # zeros, not empty: the pages are touched here, in the set-up,
+            # not one by one as rows arrive (a page fault costs ~1 us)
+            self.buffers[name] = _touched((rows,) + tail, ds.dtype)
             self.capacity = min(rows, self.capacity or rows)
 
     def append(self, row):
         """Buffer one kept row; ``row`` maps every series name to its value."""
+        buffers, i = self.slot()
+        for name, buf in buffers.items():
+            buf[i] = row[name]
+
+    def slot(self):
+        """(buffers {series name: array}, i): the caller fills row i of every
+        buffer (the next kept row)."""
         if not self.series:
             self._track()
         i = self.pending
-        for name, buf in self.buffers.items():
-            buf[i] = row[name]
         self.pending = i + 1
+        return self.buffers, i
 
     def due(self):
         """Whether a block is due: the buffer is full or the wall-time
@@ -177,14 +187,30 @@ class ResultWriter:
         self.n, self.pending = n + k, 0
 
     def _write_snapshots(self, snapshots, slab):
+        """Each snapshot with its attribute ``slab``, through low-level
+        handles kept from the first write (h5py's high level costs ~0.2 ms
+        an array, a flush writes several)."""
+        stamp = np.array(-1 if slab is None else slab, dtype=np.int64)
         for name, data in snapshots.items():
-            if name in self.f and self.f[name].shape == np.shape(data):
-                self.f[name][...] = data
-            else:
-                if name in self.f:
-                    del self.f[name]
-                self.f.create_dataset(name, data=data)
-            self.f[name].attrs["slab"] = slab
+            data = np.ascontiguousarray(data, dtype=np.float64)
+            handles = self.snapshots.get(name)
+            if handles is None or handles[2] != data.shape:
+                handles = self.snapshots[name] = self._snapshot_dataset(name, data.shape)
+            dsid, attr, _ = handles
+            dsid.write(h5py.h5s.ALL, h5py.h5s.ALL, data)
+            attr.write(stamp)
+
+    def _snapshot_dataset(self, name, shape):
+        """(dataset id, id of its attribute ``slab``, shape) of snapshot
+        ``name``, (re)created when absent or of another shape."""
+        if name in self.f and self.f[name].shape != shape:
+            del self.f[name]
+        if name not in self.f:
+            self.f.create_dataset(name, shape=shape, dtype="f8")
+        ds = self.f[name]
+        if "slab" not in ds.attrs:
+            ds.attrs.create("slab", 0, dtype=np.int64)
+        return ds.id, h5py.h5a.open(ds.id, b"slab"), shape
 
     def close(self, status, snapshots=None, slab=None, **attrs):
         """Write what is buffered, set the status and attributes, close the
@@ -269,3 +295,11 @@ def _reason(exc):
         return f"disk full: {exc.strerror}"
     text = getattr(exc, "strerror", None) or text
     return text.split("(")[0].strip() or type(exc).__name__
+
+
+def _touched(shape, dtype):
+    """An array whose memory is mapped and written once (np.zeros alone maps
+    pages lazily, at first write)."""
+    out = np.empty(shape, dtype=dtype)
+    out.fill(0)
+    return out

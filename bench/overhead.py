@@ -1,0 +1,132 @@
+"""Per-slab cost at the sizes people run (100 to 10 000 elements, output
+every slab) against the floor: one PCApply with the factored slab matrix of
+the same case, timed in the same process right after the run.
+
+Cases (a steel bar of 1 m, a `vstpetsc run` in a subprocess, output every
+slab; the time per slab is read from the result file's wall-time series
+over the middle of the run, so start-up and the last block do not count):
+
+- free: clamped at its left end, vibrating (c dt/h = 0.5);
+- held: between two rigid walls at zero gap, v0 = 1 m/s (c dt/h = 0.5):
+  it presses on one wall, then on the other, so every slab has an active
+  pair, closed over the whole slab (one Newton iteration);
+- impact: the same at c dt/h = 1 (the bundled examples' ratio): the
+  contact node chatters, the gap opens and closes inside slabs (three to
+  four Newton iterations).
+
+Used by bench/run.py.
+"""
+
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import h5py
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc import Case
+from vstpetsc.model import build_model
+from vstpetsc.petsc.options import SolverOptions
+from vstpetsc.petsc.slab_solver import SlabSolver
+
+VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+C = np.sqrt(2.0e11 / 7850.0)
+CASES = {"free": 0.5, "held": 0.5, "impact": 1.0}       # name: c dt / h
+
+
+def case_text(kind, elements, slabs):
+    """The case file of ``kind`` (see the module) with ``elements`` elements."""
+    dt = CASES[kind] / elements / C
+    text = (f"[time]\ndt = {dt!r}\nend = {slabs * dt!r}\n[output]\nevery = 1\n"
+            f"[[body]]\nname = \"bar\"\nx = [0.0, 1.0]\nelements = {elements}\n"
+            "E = 2.0e11\nrho = 7850.0\n")
+    if kind == "free":
+        return text + ("v0 = [[0.0, 0.0], [1.0, 1.0]]\n"
+                       "[[bc]]\nbody = \"bar\"\nend = \"left\"\ntype = \"fixed\"\n")
+    return text + ("v0 = 1.0\n[[contact]]\npair = [\"bar\", \"wall\"]\nwall = 1.0\n"
+                   "[[contact]]\npair = [\"wall\", \"bar\"]\nwall = 0.0\n")
+
+
+def floor(text, solves=200, reps=5):
+    """(min, median) seconds of one PCApply with the factored slab matrix of
+    the case ``text`` (vstpetsc's own solver of it)."""
+    case = Case.from_text(text)
+    linear = SlabSolver(build_model(case), case.dt, PETSc.COMM_SELF, SolverOptions()).linear
+    b, x = linear.ksp.getOperators()[0].createVecs()
+    b.setRandom()
+    times = []
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        for _ in range(solves):
+            linear.pc.apply(b, x)
+        times.append((time.perf_counter() - t0) / solves)
+    return min(times), statistics.median(times)
+
+
+def per_slab(path, contact):
+    """(seconds per slab, mean Newton iterations, share of slabs with an
+    active law) over the middle 80 % of a result file's slabs."""
+    with h5py.File(path, "r", locking=False) as f:
+        wall = f["solver/wall_time"][...]
+        newton = f["solver/newton_iterations"][...]
+    n = wall.size - 1
+    a, b = max(1, n // 10), n - n // 10
+    active = float(np.mean(newton[a:b] > 0))
+    if contact and active < 0.9:
+        raise RuntimeError(f"{path}: a contact pair acts in only {100 * active:.0f} % of slabs")
+    return (wall[b] - wall[a]) / (b - a), float(newton[a:b].mean()), active
+
+
+def run_once(folder, text):
+    """Seconds of a whole `vstpetsc run` of ``text`` (start-up included)."""
+    path = os.path.join(folder, "case.toml")
+    with open(path, "w") as f:
+        f.write(text)
+    out = os.path.join(folder, "r.h5")
+    t0 = time.perf_counter()
+    p = subprocess.run([VSTPETSC, "run", path, "-o", out, "--quiet"], capture_output=True,
+                       text=True)
+    if p.returncode != 0:
+        raise RuntimeError(p.stderr)
+    return time.perf_counter() - t0, out
+
+
+def overhead(kind, elements, slabs, reps=5):
+    """One row of the table: per-slab time (min, median over ``reps`` runs),
+    the floor (min, median) and their ratios."""
+    text = case_text(kind, elements, slabs)
+    times, newton, active = [], 0.0, 1.0
+    with tempfile.TemporaryDirectory() as folder:
+        for _ in range(reps):
+            _, out = run_once(folder, text)
+            t, newton, active = per_slab(out, kind != "free")
+            times.append(t)
+    lo, mid = floor(text)
+    return {"case": kind, "elements": elements, "slabs": slabs,
+            "slab_min_us": 1e6 * min(times), "slab_median_us": 1e6 * statistics.median(times),
+            "floor_min_us": 1e6 * lo, "floor_median_us": 1e6 * mid,
+            "ratio": min(times) / lo, "ratio_median": statistics.median(times) / mid,
+            "newton_mean": newton, "active_share": active}
+
+
+def example_wall(name="bar-wall", reps=5):
+    """(min, median) seconds of a whole `vstpetsc run` of a bundled example,
+    start-up included."""
+    text = open(os.path.join(ROOT, "examples", f"{name}.toml")).read()
+    with tempfile.TemporaryDirectory() as folder:
+        times = [run_once(folder, text)[0] for _ in range(reps)]
+    return min(times), statistics.median(times)
+
+
+def slabs_for(kind, elements, quick):
+    """Slabs enough for ~0.3 s of running (fewer when quick); output every
+    slab makes 24 bytes a node a slab, so at 10 000 elements 1000 slabs
+    write 240 MB."""
+    if quick:
+        return 2000 if elements <= 100 else 600
+    return int(min(30_000, max(1000, 3e6 / elements)))
