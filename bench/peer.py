@@ -6,6 +6,9 @@ Newmark integrator (TSALPHA2) through petsc4py, and v-ST/FEM against it.
 (b) Impact of two bars with the same penalty force law f = k max(0, -g)
     (vstpetsc's "power" formulation with the same k) and the same dt: force
     oscillation on the contact plateau, energy after separation, wall time.
+(c) The same impact at equal accuracy of the contact force (fixed k, dt
+    halved): L2 error against a fine-dt reference of the same mesh, and
+    the wall time each method needs for given errors.
 
 Used by bench/run.py; units with E = rho = A = L = 1 (c = 1).
 """
@@ -258,11 +261,11 @@ def _impact_metrics(t, force, energy):
 
 
 # -- (c) impact at equal accuracy of the contact force ----------------------
-IMPACT_GAP, IMPACT_END = 0.1, 3.0
+IMPACT_GAP, IMPACT_END = 0.1, 3.0     # the set-up of `impact`: v0 = 1 on bar a
 
 
 def _impact_text(elements, dt, k, every):
-    """The two-bar impact of `impact` as case text, penalty k given."""
+    """The two-bar impact of `impact` as case text, with the penalty k given."""
     g0 = IMPACT_GAP
     return (f"[time]\ndt = {dt!r}\nend = {IMPACT_END!r}\n[output]\nevery = {every}\n"
             f"[[body]]\nname = \"a\"\nx = [0.0, 1.0]\nelements = {elements}\n"
@@ -274,8 +277,8 @@ def _impact_text(elements, dt, k, every):
 
 def vst_impact_force(elements, dt, k, repeats=3):
     """(slab-end times, slab-mean contact forces J/dt, best wall time of
-    `repeats` runs).  Timed runs keep only t = 0 and the last slab; the
-    forces come from one more run that keeps every slab."""
+    `repeats` whole runs, None if 0).  Timed runs keep only t = 0 and the
+    last slab; the forces come from one more run that keeps every slab."""
     walls = []
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "i.h5")
@@ -286,63 +289,168 @@ def vst_impact_force(elements, dt, k, repeats=3):
         run(_impact_text(elements, dt, k, 1), path)
         with h5py.File(path) as f:
             t, force = f["time"][:], f["contact/0/force"][:]
-    return t, force, min(walls)
+    return t, force, min(walls) if walls else None
 
 
 def alpha_impact_force(elements, dt, k, radius, repeats=3):
-    """(step times, contact force k max(0, -g) at each step, best wall time
-    of `repeats` runs without monitor) of TSALPHA2 on the same impact."""
+    """(step times, contact force k max(0, -g) at the step ends, best wall
+    time of `repeats` runs) of TSALPHA2 on the same impact.  The wall time
+    includes building the operators (vstpetsc's includes its set-up too);
+    the forces come from one more run with a monitor."""
     g0, steps = IMPACT_GAP, int(round(IMPACT_END / dt))
-    lay, mesh = bars(("a", 0.0, 1.0, elements), ("b", 1 + g0, 2 + g0, elements))
-    s, m = elements, elements + 1
-    u0 = np.zeros(mesh.nnodes)
-    v0 = np.where(np.arange(mesh.nnodes) <= s, 1.0, 0.0)
-    model = AlphaBars(lay, pair=(s, m, g0, k))
-    walls = [integrate_alpha(model, u0, v0, dt, steps, radius, linear=False)[2]
-             for _ in range(repeats)]
+
+    def setup():
+        lay, mesh = bars(("a", 0.0, 1.0, elements), ("b", 1 + g0, 2 + g0, elements))
+        u0 = np.zeros(mesh.nnodes)
+        v0 = np.where(np.arange(mesh.nnodes) <= elements, 1.0, 0.0)
+        return AlphaBars(lay, pair=(elements, elements + 1, g0, k)), u0, v0
+
+    walls = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        integrate_alpha(*setup(), dt, steps, radius, linear=False)
+        walls.append(time.perf_counter() - t0)
+    model, u0, v0 = setup()
     force = np.zeros(steps + 1)
 
     def monitor(ts, i, t, U):
         force[i] = model.contact_force(U.getArray(readonly=True))
 
     integrate_alpha(model, u0, v0, dt, steps, radius, linear=False, monitor=monitor)
-    return dt * np.arange(steps + 1), force, min(walls)
+    return dt * np.arange(steps + 1), force, min(walls) if walls else None
 
 
 class ForceReference:
-    """A contact force history given by its impulse I(t) (slab means exact)
-    and by point values (linear between the points given)."""
+    """A reference contact-force history: its means over intervals, its
+    values at points, and the integral of its square over the run."""
 
-    def __init__(self, t_impulse, impulse, t_point, point, norm2):
-        self.ti, self.impulse, self.tp, self.point_values = t_impulse, impulse, t_point, point
-        self.norm2 = norm2            # integral of f^2 over the whole run
+    def __init__(self, impulse, points, norm2):
+        self.impulse, self.points, self.norm2 = impulse, points, norm2
+
+    def means(self, t):
+        """Means over [t[i-1], t[i]]."""
+        return np.diff(self.impulse(t)) / np.diff(t)
 
     @classmethod
     def exact(cls, force=0.5, start=IMPACT_GAP, duration=2.0):
-        """The continuum, rigid-contact history: `force` on (start, start + duration)."""
-        ti = np.array([0.0, start, start + duration, 2 * IMPACT_END])
-        tp = np.array([0.0, start, start, start + duration, start + duration, 2 * IMPACT_END])
-        return cls(ti, force * np.clip(ti - start, 0, duration), tp,
-                   force * np.array([0, 0, 1, 1, 0, 0.0]), force ** 2 * duration)
+        """Continuum bars, rigid contact: Z v / 2 = 0.5 from the first touch
+        (gap 0.1 closed at relative speed 1) for 2 L / c."""
+        return cls(lambda t: force * np.clip(t - start, 0.0, duration),
+                   lambda t: np.where((t > start) & (t < start + duration), force, 0.0),
+                   force ** 2 * duration)
 
     @classmethod
     def from_slab_means(cls, t, force):
-        """From a run's slab-mean forces (point values at mid-slab)."""
+        """From a run's slab-mean forces (point values: linear between mid-slabs)."""
         f, dt = force[1:], np.diff(t)
-        return cls(t, np.r_[0.0, np.cumsum(f * dt)], 0.5 * (t[1:] + t[:-1]), f,
+        impulse = np.r_[0.0, np.cumsum(f * dt)]
+        mid = 0.5 * (t[1:] + t[:-1])
+        return cls(lambda s: np.interp(s, t, impulse), lambda s: np.interp(s, mid, f),
                    float(np.sum(f ** 2 * dt)))
 
-    def means(self, t):
-        return np.diff(np.interp(t, self.ti, self.impulse)) / np.diff(t)
 
-    def points(self, t):
-        return np.interp(t, self.tp, self.point_values)
-
-
-def force_error(t, force, ref, slab_mean):
+def force_error(t, values, ref, at):
     """sqrt(int (f - f_ref)^2 dt / int f_ref^2 dt) over the whole run (the
-    contact window and any late or spurious contact), f constant on each
-    step: slab means against the reference's means over the same slabs, or
-    end-of-step values against the reference at the step ends."""
-    r = ref.means(t) if slab_mean else ref.points(t[1:])
-    return float(np.sqrt(np.sum((force[1:] - r) ** 2 * np.diff(t)) / ref.norm2))
+    contact window and any late or spurious contact), f taken constant over
+    each step [t[i-1], t[i]] and compared there with the reference's mean
+    (at="mean"), its value at the step end ("end") or at mid-step ("mid")."""
+    r = {"mean": lambda: ref.means(t), "end": lambda: ref.points(t[1:]),
+         "mid": lambda: ref.points(0.5 * (t[1:] + t[:-1]))}[at]()
+    return float(np.sqrt(np.sum((values[1:] - r) ** 2 * np.diff(t)) / ref.norm2))
+
+
+# How each method's force series is read: (transform, comparison) for the
+# criterion and for the alternative reading.  vstpetsc writes slab means;
+# TSALPHA2's k max(0, -g(u_n)) is a value at the step end.
+_READINGS = {"vstfem": ((lambda f: f, "mean"), (lambda f: f, "mid")),
+             "alpha2": ((lambda f: f, "end"),
+                        (lambda f: np.r_[0.0, 0.5 * (f[1:] + f[:-1])], "mean"))}
+
+
+def _accuracy_row(kind, dt, t, force, wall, ref, exact):
+    (main, at), (alt, alt_at) = _READINGS[kind]
+    return {"dt": float(dt), "steps": int(t.size - 1), "wall": wall,
+            "error": force_error(t, main(force), ref, at),
+            "error_alt": force_error(t, alt(force), ref, alt_at),
+            "error_exact": force_error(t, main(force), exact, at)}
+
+
+def wall_to_stay_below(series, target, key="error", cost="wall"):
+    """Wall time (or other `cost`) from which on (coarse to fine) the error
+    stays <= target at every finer dt measured, log-log interpolated from
+    the last point above it; the coarsest run's (an upper bound) if none is
+    above; None if the finest run is above."""
+    e = np.array([p[key] for p in series])
+    w = np.array([p[cost] for p in series], dtype=float)
+    above = np.nonzero(e > target)[0]
+    if above.size == 0:
+        return float(w[0])
+    i = above[-1]
+    if i == e.size - 1:
+        return None
+    s = (np.log(target) - np.log(e[i])) / (np.log(e[i + 1]) - np.log(e[i]))
+    return float(np.exp(np.log(w[i]) + s * (np.log(w[i + 1]) - np.log(w[i]))))
+
+
+def _order(series, key="error", points=3):
+    """Slope of log error against log dt over the finest `points` runs."""
+    dt = np.log([p["dt"] for p in series[-points:]])
+    return float(np.polyfit(dt, np.log([p[key] for p in series[-points:]]), 1)[0])
+
+
+def impact_accuracy(elements=50, beta=1.0, radii=(1.0, 0.5), targets=(1e-1, 3e-2, 1e-2),
+                    quick=False):
+    """v-ST/FEM against TSALPHA2 on the two-bar impact of `impact` at equal
+    accuracy of the contact force, with k = beta E A / h fixed for every dt.
+
+    Criterion: the L2 error of the force (force_error) against the same
+    mesh and k integrated by vstpetsc with dt 4 times below the finest of
+    the study (the time-integration error alone); also reported against the
+    exact continuum force (mesh and penalty error included).  beta = 1, not
+    vstpetsc's default 50: with 50 the semi-discrete contact chatters
+    (spikes ~7 times Z v / 2) and its reference does not converge even at
+    dt = h/512; `reference_check` reports how converged the reference is.
+
+    dt = 2h, h, h/2, ... h/128 (h/64 if quick); wall: best of 5 (3 if quick)
+    whole runs, the methods interleaved per dt.  "error" reads vstpetsc's
+    slab means against the reference's means and TSALPHA2's step-end
+    values against the reference there; "error_alt" vstpetsc's means as
+    mid-slab values and TSALPHA2's trapezoidal step means (_READINGS).
+    ratio_to_vstfem: TSALPHA2's wall over vstpetsc's for the same error."""
+    h = 1.0 / elements
+    k = beta / h
+    dts = [h / 2.0 ** j for j in range(-1, 7 if quick else 8)]
+    repeats = 3 if quick else 5
+    dt_ref = dts[-1] / 4
+    tr, fr, _ = vst_impact_force(elements, dt_ref, k, 0)
+    ref, exact = ForceReference.from_slab_means(tr, fr), ForceReference.exact()
+    t, f, _ = vst_impact_force(elements, 2 * dt_ref, k, 0)
+    ta, fa, _ = alpha_impact_force(elements, dt_ref, k, 1.0, 0)
+    out = {"elements_per_bar": elements, "beta": beta, "penalty": k, "repeats": repeats,
+           "reference": f"vstpetsc, same mesh and penalty, dt = {dt_ref!r} (h/{h / dt_ref:g})",
+           "reference_check": {"vstfem_at_2dt_ref": force_error(t, f, ref, "mean"),
+                               "alpha2_r1_at_dt_ref": force_error(ta, fa, ref, "end"),
+                               "reference_vs_exact": force_error(tr, fr, exact, "mean")}}
+    methods = ["vstfem"] + [f"alpha2_r{r:g}" for r in radii]
+    for m in methods:
+        out[m] = []
+    for dt in dts:        # the methods close together in time at each dt
+        out["vstfem"].append(_accuracy_row(
+            "vstfem", dt, *vst_impact_force(elements, dt, k, repeats), ref, exact))
+        for r in radii:
+            out[f"alpha2_r{r:g}"].append(_accuracy_row(
+                "alpha2", dt, *alpha_impact_force(elements, dt, k, r, repeats), ref, exact))
+    out["order_fine"] = {m: _order(out[m]) for m in methods}
+    for key in ("error", "error_alt"):
+        table = {m: {f"{e:g}": wall_to_stay_below(out[m], e, key) for e in targets}
+                 for m in methods}
+        ratio = {m: {e: (w / table["vstfem"][e] if w and table["vstfem"][e] else None)
+                     for e, w in table[m].items()} for m in methods[1:]}
+        suffix = "" if key == "error" else "_alt"
+        out["wall_for_error" + suffix], out["ratio_to_vstfem" + suffix] = table, ratio
+    out["steps_for_error"] = {m: {f"{e:g}": wall_to_stay_below(out[m], e, cost="steps")
+                                  for e in targets} for m in methods}
+    # Against the continuum the error does not fall with dt at a fixed mesh:
+    # the run closest to it, not a wall time per target.
+    out["best_exact"] = {m: min(out[m], key=lambda p: p["error_exact"]) for m in methods}
+    return out

@@ -37,6 +37,8 @@ class Case:
         ``output.path`` as given; :attr:`output_file` resolves it.
     bodies, contacts, bcs : lists of Body, ContactSpec, BoundarySpec
     gravity : GravitySpec or None
+    gauges : list of GaugeSpec
+        The [[gauge]] points, recorded every slab.
     units : dict
         Unit names for plot labels.
     text : str

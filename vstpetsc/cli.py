@@ -14,6 +14,9 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
        vstpetsc example [NAME [-o CASE.toml]]   list the bundled cases, or write one
        vstpetsc info RESULT.h5                   one-screen summary of a result
        vstpetsc plot RESULT.h5 [-o FIGURE.png]   velocity map, contact force, energy
+       vstpetsc export RESULT.h5 [--csv DIR] [--xdmf]
+                                                 time series as CSV files in DIR; RESULT.xdmf
+                                                 (u, v, stress over time) for ParaView
        vstpetsc --version"""
 
 EXIT_BAD_INPUT = 2
@@ -102,7 +105,8 @@ def main(argv=None):
         print(f"vstpetsc {__version__}")
         return 0
     command, rest = argv[0], argv[1:]
-    commands = {"run": _run, "example": _example, "info": _info, "plot": _plot}
+    commands = {"run": _run, "example": _example, "info": _info, "plot": _plot,
+                "export": _export}
     if command not in commands:
         return _fail([f"unknown command {command!r} (commands: {', '.join(commands)})"],
                      EXIT_BAD_INPUT)
@@ -269,4 +273,30 @@ def _plot(rest):
     from vstpetsc.results.plot import plot_result
     plot_result(result, out)
     print(f"wrote {out}")
+    return 0
+
+
+def _export(rest):
+    opts = parse_options(rest, ["result"], flags=("--xdmf",), valued=("--csv",))
+    if opts["csv"] is None and not opts["--xdmf"]:
+        raise UsageError("export: give --csv DIR, --xdmf or both")
+    result = _result(opts, "export")
+    if opts["csv"] is not None:
+        folder = opts["csv"]
+        if any(not c.isprintable() for c in folder):
+            raise UsageError("--csv: the path contains a control character")
+        if os.path.exists(folder) and not os.path.isdir(folder):
+            raise UsageError(f"--csv: {folder} exists and is not a folder")
+        try:
+            written = result.to_csv(folder)
+        except OSError as exc:
+            raise UsageError(f"--csv: cannot write {folder}: {exc.strerror}") from None
+        print(f"wrote {len(written)} CSV files to {folder}: "
+              + ", ".join(os.path.basename(p) for p in written))
+    if opts["--xdmf"]:
+        try:
+            print(f"wrote {result.to_xdmf()}")
+        except OSError as exc:
+            raise UsageError(f"--xdmf: cannot write beside {result.path}: "
+                             f"{exc.strerror}") from None
     return 0

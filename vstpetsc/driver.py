@@ -184,6 +184,7 @@ class TimeLoop:
         n, dt = case.nslabs, case.dt
         progress = Progress(n - k0, self.err if self.talk else None)
         energy1, k = None, k0
+        gauges = len(self.recorder.gauges) > 0
         try:
             for k in range(k0 + 1, n + 1):
                 t0, t1 = (k - 1) * dt, k * dt
@@ -191,6 +192,8 @@ class TimeLoop:
                 its = solver.solve(k)
                 solver.laws.finish_slab(t0, dt)
                 solver.advance()
+                if gauges:
+                    self.recorder.gauge_row()
                 signum = self.space.max_over_ranks(stop.signum)
                 if k % case.every == 0 or k == n or signum:
                     energy1 = self.recorder.record(k, its)

@@ -7,6 +7,7 @@ import time
 import numpy as np
 
 from vstpetsc.errors import InputError
+from vstpetsc.gauges import Gauges
 from vstpetsc.results import layout
 
 
@@ -22,7 +23,12 @@ class Recorder:
         self.interval = interval
         self.writer, self.lock = None, None
         self.rows = layout.RowFiller(model)
+        self.gauges = Gauges(model)
         self.start = time.perf_counter()
+        if len(self.gauges):
+            from vstpetsc.petsc.probe import NodeValues
+            self.probe = NodeValues(solver, self.gauges.nodes)
+            self.gauge_values = np.zeros(4 * len(self.gauges))
 
     def _agree(self, action):
         """Run ``action`` on rank 0; its InputError stops every rank."""
@@ -65,10 +71,16 @@ class Recorder:
                 self.writer = ResultWriter.reopen(self.lock, attrs, self.interval)
                 return
             first = self.rows.row(0, u, v, (0, 0), 0.0, self.energy.row(u, v, {}))
+            if len(self.gauges):
+                self.gauges.fill(u[self.gauges.nodes], v[self.gauges.nodes], self.gauge_values)
+                first.update((name, self.gauge_values[j]) for name, j in self.gauges.series())
             self.writer = ResultWriter.create(
                 self.output, layout.series(model), layout.statics(model),
                 layout.group_attrs(model), attrs, first, self.interval, snapshots)
         self._agree(create)
+        if self.writer and self.writer.gauges:
+            column = dict(self.gauges.series())
+            self.gauge_order = np.array([column[n] for n in self.writer.gauges.names])
 
     def _snapshots(self, rhs=True):
         """The state a restart needs, on rank 0: the envelopes and (``rhs``)
@@ -82,6 +94,18 @@ class Recorder:
             out[layout.RHS_STATE] = b
             out[layout.NEWTON_STATE] = self.solver.nonlinear.state()
         return out
+
+    def gauge_row(self):
+        """The gauges' row of the slab just solved (every slab); when the
+        buffer is full it goes to the file alone (collective)."""
+        uv = self.probe()
+        full = False
+        if self.rank0:
+            self.gauges.fill(*uv, self.gauge_values)
+            np.take(self.gauge_values, self.gauge_order, out=self.writer.gauge_slot())
+            full = self.writer.gauges_full()
+        if self.space.max_over_ranks(int(full)):
+            self.flush(None)
 
     def record(self, k, its):
         """Keep slab k: its row on rank 0, a block to the file when due;
@@ -100,14 +124,15 @@ class Recorder:
         return energy
 
     def flush(self, k):
-        """Write the buffered rows with the restart state of slab k."""
+        """Write the buffered rows with the restart state of slab k (k
+        None: the gauge rows alone, nothing else)."""
         from vstpetsc.results.writer import OutputFailed
 
-        snapshots = self._snapshots()          # collective
+        snapshots = self._snapshots() if k is not None else None     # collective
         error = None
         if self.rank0:
             try:
-                self.writer.flush(snapshots, k)
+                self.writer.flush(snapshots, k, gauges_only=k is None)
             except OutputFailed as exc:
                 error = str(exc)
         error = self.space.from_rank0(error)

@@ -16,7 +16,8 @@ from vstpetsc.history import History
 WALL = "wall"
 ENDS = ("left", "right")
 UNITS = {"length": "m", "time": "s", "mass": "kg"}
-TOP = ("time", "output", "body", "contact", "bc", "units", "gravity")
+TOP = ("time", "output", "body", "contact", "bc", "units", "gravity", "gauge")
+GAUGE_KEYS = ("name", "body", "x")
 BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0", "damping", "foundation")
 INITIAL = ("rest", "static")
 MAX_SLABS = 1e12          # beyond any run; guards int() and memory against typos
@@ -40,6 +41,15 @@ class Body:
     u0: History = field(default_factory=History)
     damping: tuple = (0.0, 0.0)
     foundation: tuple = (0.0, 0.0)
+
+
+@dataclass
+class GaugeSpec:
+    """A [[gauge]]: a point ``x`` (global coordinate) of body number ``body``."""
+
+    name: str
+    body: int
+    x: float
 
 
 @dataclass
@@ -86,6 +96,7 @@ def read(doc, folder=None):
     bcs = read_bcs(chk, chk.tables(doc, "bc"), names, contacts)
     parts["gravity"] = read_gravity(chk, chk.table(doc, "gravity", "gravity", required=False),
                                     bodies)
+    parts["gauges"] = read_gauges(chk, chk.tables(doc, "gauge"), bodies, names)
     if chk.problems:
         raise CaseError(chk.problems)
     parts.update(bodies=bodies, contacts=contacts, bcs=bcs, input_files=chk.inputs)
@@ -154,6 +165,38 @@ def name_problem(name):
         return (f"may hold letters, digits, '_', '-' and '.' only, got {bad[0]!r} "
                 f"in {name!r}")
     return None
+
+
+def read_gauges(chk, tables, bodies, names):
+    """[[gauge]] tables: a list of GaugeSpec."""
+    gauges, seen = [], {}
+    for i, tbl in enumerate(tables):
+        where = f"gauge[{i}]"
+        chk.unknown(tbl, GAUGE_KEYS, where)
+        name = chk.string(tbl, "name", where)
+        if name is not None:
+            where = f"gauge[{i}] ({name})"
+            problem = name_problem(name)
+            if problem is None and name in seen:
+                problem = f"duplicate name (also gauge[{seen[name]}])"
+            if problem:
+                chk.add(f"{where}.name", problem)
+                name = None
+            else:
+                seen[name] = i
+        body = chk.string(tbl, "body", where)
+        if body is not None and body not in names:
+            chk.add(f"{where}.body", f"unknown body {body!r} (bodies: {', '.join(names) or 'none'})")
+            body = None
+        x = chk.number(tbl, "x", where)
+        b = None if body is None else bodies[names[body]]
+        if b is not None and x is not None and not b.x[0] <= x <= b.x[1]:
+            chk.add(f"{where}.x", f"{x:g} lies outside body {body!r}, which spans "
+                    f"[{b.x[0]:g}, {b.x[1]:g}]")
+            x = None
+        if None not in (name, b, x):
+            gauges.append(GaugeSpec(name, names[body], float(x)))
+    return gauges
 
 
 def read_bodies(chk, doc):

@@ -8,11 +8,13 @@ their names from here.
     /<law group>/<series>          (nt,)   e.g. /contact/0/gap
     /energy/kinetic, strain, spring, damping, external, contact, soil, numerical   (nt,)
     /solver/newton_iterations, linear_iterations, wall_time, slab   (nt,)
+    /gauge/<name>/u, v, stress, strain   (ns + 1,)   every slab, whatever `every` is
 """
 
 import numpy as np
 
 from vstpetsc import energy as energy_mod
+from vstpetsc.gauges import Gauges
 
 TIME = "time"
 BODY = "body"
@@ -44,7 +46,13 @@ def series(model):
                 (body_path(body.name, "stress"), (body.elements,))]
     for law in model.recorded:
         out += [(f"{law.group}/{key}", ()) for key in law.series]
+    out += [(name, ()) for name, _ in Gauges(model).series()]
     return out + [(name, ()) for name in ENERGY + SOLVER]
+
+
+def every_slab(name):
+    """Whether series ``name`` has a row per slab (a gauge), not per kept slab."""
+    return name.startswith("gauge/")
 
 
 def statics(model):
@@ -56,7 +64,7 @@ def statics(model):
 
 def group_attrs(model):
     """{group: attributes} of the laws that report."""
-    return {law.group: law.attrs() for law in model.recorded}
+    return {**{law.group: law.attrs() for law in model.recorded}, **Gauges(model).attrs()}
 
 
 def formulation(model):

@@ -71,6 +71,13 @@ class Result:
         with self._open() as f:
             return list(f[group].keys()) if group else list(f.keys())
 
+    def series(self, group):
+        """{name: array} of the 1-D series of ``group`` (datasets that grow
+        with the run), in the file's order."""
+        with self._open() as f:
+            return {k: d[...] for k, d in f[group].items()
+                    if isinstance(d, h5py.Dataset) and d.ndim == 1 and d.maxshape[0] is None}
+
     def group_attrs(self, group=""):
         """The attributes of ``group`` (strings decoded)."""
         with self._open() as f:
@@ -112,6 +119,19 @@ class Result:
         return Group(self, f"{layout.CONTACT}/{int(k)}")
 
     @property
+    def gauges(self):
+        """The gauge names (empty if the case has none)."""
+        return self.keys("gauge") if "gauge" in self else []
+
+    def gauge(self, name):
+        """Datasets of gauge ``name``: ``.u``, ``.v``, ``.stress``,
+        ``.strain`` after every slab (t = 0 first; ``.time`` the slab
+        ends), ``.attrs`` (body, x)."""
+        if name not in self.gauges:
+            raise KeyError(f"no gauge {name!r} (gauges: {', '.join(self.gauges) or 'none'})")
+        return GaugeGroup(self, f"gauge/{name}")
+
+    @property
     def energy(self):
         """{name: array} of the energy datasets, read when asked for."""
         return Group(self, "energy")
@@ -127,6 +147,18 @@ class Result:
         from vstpetsc.case import Case
         a = self.attrs
         return Case.from_text(a["case"], source=f"{self.path}:case", folder=a.get("case_folder"))
+
+    def to_csv(self, folder):
+        """Write the time series as CSV files in ``folder``
+        (:func:`vstpetsc.results.export.to_csv`); returns their paths."""
+        from vstpetsc.results.export import to_csv
+        return to_csv(self, folder)
+
+    def to_xdmf(self, path=None):
+        """Write an XDMF index of u, v, stress over time for ParaView
+        (default RESULT.xdmf beside the file); returns its path."""
+        from vstpetsc.results.export import to_xdmf
+        return to_xdmf(self, path)
 
     def summary(self):
         """The dict that `vstpetsc info` prints."""
@@ -167,3 +199,12 @@ class Group:
 
     def __repr__(self):
         return f"<{self._path} of {self._result.path}: {', '.join(self.keys())}>"
+
+
+class GaugeGroup(Group):
+    """A gauge's group; ``.time`` the slab ends its rows belong to."""
+
+    @property
+    def time(self):
+        import numpy as np
+        return np.arange(self.u.size) * float(self._result.attrs["dt"])

@@ -48,6 +48,7 @@ def summarize(result):
         "slabs_done": int(a.get("slabs_done", round(time[-1] / dt) if time.size else 0)),
         "kept": time.size, "t_end": float(time[-1]) if time.size else 0.0,
         "bodies": bodies, "pairs": pairs,
+        "gauges": [gauge_summary(result, name) for name in result.gauges],
         "energy_start": float(energy[0]) if energy.size else np.nan,
         "energy_end": float(energy[-1]) if energy.size else np.nan,
         "newton_mean": float(newton.mean()) if newton.size else 0.0,
@@ -58,6 +59,19 @@ def summarize(result):
         "energy_initial": float(sum(energies[k][0] for k in
                                     ("kinetic", "strain", "spring", "contact") if k in energies)),
     }
+
+
+def gauge_summary(result, name):
+    """A gauge's place and its stress and velocity extremes (every slab)."""
+    g = result.gauge(name)
+    a, stress, v, t = g.attrs, g.stress, g.v, g.time
+    out = {"name": name, "body": a.get("body", "?"), "x": float(a.get("x", np.nan))}
+    if stress.size:
+        i, j, k = int(stress.argmin()), int(stress.argmax()), int(np.abs(v).argmax())
+        out.update(stress_min=float(stress[i]), t_stress_min=float(t[i]),
+                   stress_max=float(stress[j]), t_stress_max=float(t[j]),
+                   v_peak=float(v[k]), t_v_peak=float(t[k]))
+    return out
 
 
 def body_summary(result, name):
@@ -105,6 +119,7 @@ def format_summary(s, path):
                 value, where, when = b[kind]
                 lines.append(f"      largest {kind} stress {value:.6g} at x = {where:.6g}, "
                              f"t = {when:.6g}")
+    lines += gauge_lines(s.get("gauges", []))
     if s["pairs"]:
         lines.append(f"  contact ({s['formulation']}):")
     for k, p in enumerate(s["pairs"]):
@@ -128,3 +143,17 @@ def format_summary(s, path):
     if s["every"] > 1:
         lines.append("  (contact totals over every slab; penetration at kept times only)")
     return "\n".join(lines)
+
+
+def gauge_lines(gauges):
+    """The gauge lines of `vstpetsc info` (every slab)."""
+    lines = ["  gauges (every slab):"] if gauges else []
+    for g in gauges:
+        if "stress_min" not in g:
+            lines.append(f"    {g['name']:<14} {g['body']} x = {g['x']:g}: no rows")
+            continue
+        lines.append(f"    {g['name']:<14} {g['body']} x = {g['x']:g}: stress "
+                     f"{g['stress_min']:.6g} (t = {g['t_stress_min']:.6g}) .. "
+                     f"{g['stress_max']:.6g} (t = {g['t_stress_max']:.6g}); peak v "
+                     f"{g['v_peak']:.6g} (t = {g['t_v_peak']:.6g})")
+    return lines

@@ -44,6 +44,86 @@ def unclosable():
     return bool(_UNCLOSABLE)
 
 
+class GaugeStream:
+    """The series written every slab (the gauges, :mod:`vstpetsc.gauges`):
+    one buffer of rows, a column per dataset, written with the kept rows'
+    blocks (or alone when it is full)."""
+
+    def __init__(self, f, names):
+        self.names = names
+        self.ids = [f[name].id for name in names]
+        self.n = f[names[0]].shape[0]
+        self.buffer = _touched((BUFFER_ROWS, len(names)), np.float64)
+        self.pending = 0
+
+    @classmethod
+    def of(cls, f, names):
+        """The stream of ``names`` in ``f`` (None when there are none)."""
+        return cls(f, names) if names else None
+
+    def slot(self):
+        """The next row to fill (a view of the buffer)."""
+        i = self.pending
+        self.pending = i + 1
+        return self.buffer[i]
+
+    def full(self):
+        return self.pending == self.buffer.shape[0]
+
+    def need(self):
+        """Bytes the next write may take, whole chunks included."""
+        return (self.pending + 4096) * 8 * len(self.ids)
+
+    def write(self):
+        k, n = self.pending, self.n
+        for j, dsid in enumerate(self.ids if k else ()):
+            dsid.set_extent((n + k,))
+            fspace = dsid.get_space()
+            fspace.select_hyperslab((n,), (k,))
+            dsid.write(h5py.h5s.create_simple((k,)), fspace,
+                       np.ascontiguousarray(self.buffer[:k, j]))
+        self.n, self.pending = n + k, 0
+
+    def truncate(self, rows):
+        """Drop rows after the first ``rows`` (a restart from an earlier slab)."""
+        for dsid in self.ids:
+            dsid.set_extent((min(rows, self.n),))
+        self.n = min(rows, self.n)
+
+
+class Snapshots:
+    """The datasets rewritten with every block (restart state, envelopes),
+    each with its attribute ``slab``, through low-level handles kept from
+    the first write (h5py's high level costs ~0.2 ms an array, a block
+    writes several)."""
+
+    def __init__(self, f):
+        self.f, self.handles = f, {}
+
+    def write(self, snapshots, slab):
+        stamp = np.array(-1 if slab is None else slab, dtype=np.int64)
+        for name, data in snapshots.items():
+            data = np.ascontiguousarray(data, dtype=np.float64)
+            handles = self.handles.get(name)
+            if handles is None or handles[2] != data.shape:
+                handles = self.handles[name] = self._dataset(name, data.shape)
+            dsid, attr, _ = handles
+            dsid.write(h5py.h5s.ALL, h5py.h5s.ALL, data)
+            attr.write(stamp)
+
+    def _dataset(self, name, shape):
+        """(dataset id, id of its attribute ``slab``, shape) of snapshot
+        ``name``, (re)created when absent or of another shape."""
+        if name in self.f and self.f[name].shape != shape:
+            del self.f[name]
+        if name not in self.f:
+            self.f.create_dataset(name, shape=shape, dtype="f8")
+        ds = self.f[name]
+        if "slab" not in ds.attrs:
+            ds.attrs.create("slab", 0, dtype=np.int64)
+        return ds.id, h5py.h5a.open(ds.id, b"slab"), shape
+
+
 class ResultWriter:
     """Buffered appends to an HDF5 result file, under an :class:`OutputLock`.
 
@@ -54,20 +134,21 @@ class ResultWriter:
         self.f, self.lock, self.interval = f, lock, interval
         self.reserve = DiskReserve(fd)
         self.series, self.buffers = {}, {}
-        self.snapshots = {}                      # name: low-level handles
+        self.snapshots = Snapshots(f)
         self.capacity = None
         self.n = self.f[layout.TIME].shape[0]   # rows in the file
         self.pending = 0                         # rows in the buffers
         self.flushed_slab = None
         self.last_flush = time.monotonic()
         self.broken = False
+        self.gauges = GaugeStream.of(f, _gauge_names(f))
 
     @classmethod
     def create(cls, path, series, statics, groups, attrs, first_row, interval=0.5,
                snapshots=None):
         """A new file: written under a temporary name with ``first_row``
-        (and the ``snapshots`` of t = 0), then renamed to ``path``;
-        InputError if it cannot be."""
+        (its gauge values included, and the ``snapshots`` of t = 0), then
+        renamed to ``path``; InputError if it cannot be."""
         lock = OutputLock(path)
         temp, f, fd, self = lock.new(), None, None, None
         try:
@@ -78,6 +159,8 @@ class ResultWriter:
             _header(f, series, statics, groups, attrs)
             self = cls(f, lock, interval, fd)
             self.append(first_row)
+            if self.gauges:
+                self.gauges.slot()[:] = [first_row[n] for n in _gauge_names(f)]
             self.flush(snapshots, 0)
             lock.publish(fd)
         except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
@@ -104,16 +187,21 @@ class ResultWriter:
                 f.attrs[k] = v
             f.attrs["status"] = "running"
             f.attrs["restarts"] = int(f.attrs.get("restarts", 0)) + 1
+            self = cls(f, lock, interval, lock.fd)
+            if self.gauges:         # the run continues from its last kept slab
+                self.gauges.truncate(int(f["solver/slab"][-1]) + 1)
             f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             lock.release()
             raise InputError(f"--restart: cannot append to {path}: {_reason(exc)}") from None
-        return cls(f, lock, interval, lock.fd)
+        return self
 
     def _track(self):
         """Buffers and low-level handles of every series (h5py's high-level
         resize and item assignment cost ~200 us a call)."""
         for name, ds in _series_of(self.f):
+            if layout.every_slab(name):
+                continue
             tail = ds.shape[1:]
             width = max(1, int(np.prod(tail)))
             rows = max(1, min(BUFFER_ROWS, BUFFER_VALUES // width))
@@ -139,6 +227,14 @@ class ResultWriter:
         self.pending = i + 1
         return self.buffers, i
 
+    def gauge_slot(self):
+        """The next gauge row to fill (after the row, the caller asks
+        :meth:`gauges_full`)."""
+        return self.gauges.slot()
+
+    def gauges_full(self):
+        return self.gauges.full()
+
     def due(self):
         """Whether a block is due: the buffer is full or the wall-time
         interval since the last block has passed (the caller then flushes,
@@ -146,9 +242,11 @@ class ResultWriter:
         return self.pending > 0 and (self.pending == self.capacity or
                                      time.monotonic() - self.last_flush >= self.interval)
 
-    def flush(self, snapshots=None, slab=None):
+    def flush(self, snapshots=None, slab=None, gauges_only=False):
         """Write the buffered rows and ``snapshots`` ({name: array}, state
-        at the last row, slab number ``slab``), then flush HDF5."""
+        at the last row, slab number ``slab``), then flush HDF5; with
+        ``gauges_only`` the gauge rows alone (a full gauge buffer between
+        kept rows)."""
         snapshots = snapshots or {}
         try:
             # HDF5 allocates whole chunks, each when its first row is written
@@ -156,12 +254,16 @@ class ResultWriter:
             need = MARGIN + sum(nbytes * (-(-(n + k) // rows) - (-(-n // rows)))
                                 for _, _, (rows, nbytes) in self.series.values())
             need += sum(np.asarray(a).nbytes for a in snapshots.values())
+            need += self.gauges.need() if self.gauges else 0
             self.reserve.ensure(self.f.id.get_filesize(), need + need // 20)
         except DiskFull as exc:
             raise OutputFailed(self._failure(exc)) from None
         try:
-            self._write_rows()
-            self._write_snapshots(snapshots, slab)
+            if gauges_only:
+                self.gauges.write()
+            else:
+                self._write_rows()
+                self.snapshots.write(snapshots, slab)
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             self.broken = True
@@ -174,6 +276,8 @@ class ResultWriter:
         return f"cannot write {self.lock.path}: {_reason(exc)}; {kept}"
 
     def _write_rows(self):
+        if self.gauges:
+            self.gauges.write()
         k, n = self.pending, self.n
         if k == 0:
             return
@@ -185,32 +289,6 @@ class ResultWriter:
             dsid.write(h5py.h5s.create_simple(data.shape), fspace, data)
         self.flushed_slab = int(self.buffers["solver/slab"][k - 1])
         self.n, self.pending = n + k, 0
-
-    def _write_snapshots(self, snapshots, slab):
-        """Each snapshot with its attribute ``slab``, through low-level
-        handles kept from the first write (h5py's high level costs ~0.2 ms
-        an array, a flush writes several)."""
-        stamp = np.array(-1 if slab is None else slab, dtype=np.int64)
-        for name, data in snapshots.items():
-            data = np.ascontiguousarray(data, dtype=np.float64)
-            handles = self.snapshots.get(name)
-            if handles is None or handles[2] != data.shape:
-                handles = self.snapshots[name] = self._snapshot_dataset(name, data.shape)
-            dsid, attr, _ = handles
-            dsid.write(h5py.h5s.ALL, h5py.h5s.ALL, data)
-            attr.write(stamp)
-
-    def _snapshot_dataset(self, name, shape):
-        """(dataset id, id of its attribute ``slab``, shape) of snapshot
-        ``name``, (re)created when absent or of another shape."""
-        if name in self.f and self.f[name].shape != shape:
-            del self.f[name]
-        if name not in self.f:
-            self.f.create_dataset(name, shape=shape, dtype="f8")
-        ds = self.f[name]
-        if "slab" not in ds.attrs:
-            ds.attrs.create("slab", 0, dtype=np.int64)
-        return ds.id, h5py.h5a.open(ds.id, b"slab"), shape
 
     def close(self, status, snapshots=None, slab=None, **attrs):
         """Write what is buffered, set the status and attributes, close the
@@ -236,6 +314,10 @@ class ResultWriter:
         self.lock.release()
         if error is not None:
             raise error
+
+
+def _gauge_names(f):
+    return [name for name, _ in _series_of(f) if layout.every_slab(name)]
 
 
 def _series_of(f):

@@ -1,0 +1,87 @@
+"""Gauges: u, v, stress and strain at points of the bars after every slab,
+whatever ``output.every`` is (docs/result-file.md, "/gauge").
+
+u and v are interpolated linearly between the two nodes around x (as the
+finite element field is); stress and strain are those of the element
+holding x: the left one at an interior node, the first one at the body's
+left end.  Stress is the elongation times E / h, computed as the body's
+stress series is, so the two agree where both exist.  Pure numpy.
+"""
+
+import numpy as np
+
+SERIES = ("u", "v", "stress", "strain")
+
+
+def gauge_path(name=None, key=None):
+    """The HDF5 path of the gauge group, of gauge ``name``, or of one of
+    its series."""
+    return "/".join(["gauge"] + [p for p in (name, key) if p is not None])
+
+
+def element_at(xs, x):
+    """(element, weight) of point ``x`` on the nodes ``xs`` of one body:
+    the element holding x (the left one at an interior node, the first at
+    the left end) and x's weight of its right node (exactly 0 or 1 at
+    nodes)."""
+    e = int(np.clip(np.searchsorted(xs, x, side="left") - 1, 0, xs.size - 2))
+    if x == xs[e + 1]:
+        return e, 1.0
+    return e, (x - xs[e]) / (xs[e + 1] - xs[e])
+
+
+class Gauges:
+    """The gauges of a model: which nodes they read and their values.
+
+    Attributes
+    ----------
+    names : list of str
+    nodes : ndarray of int
+        The global nodes whose u and v the gauges need (sorted, unique).
+    """
+
+    def __init__(self, model):
+        specs, mesh = model.case.gauges, model.mesh
+        self.names = [g.name for g in specs]
+        self.bodies = [model.case.bodies[g.body].name for g in specs]
+        self.specs = specs
+        left, w, factor, inv_h = [], [], [], []
+        for g in specs:
+            nodes, elements = mesh.nodes(g.body), mesh.elements(g.body)
+            e, weight = element_at(mesh.x[nodes], g.x)
+            left.append(nodes.start + e)
+            w.append(weight)
+            el = elements.start + e
+            factor.append(mesh.E[el] / mesh.h[el])
+            inv_h.append(1.0 / mesh.h[el])
+        left = np.asarray(left, dtype=int)
+        self.nodes = np.unique(np.concatenate([left, left + 1]))
+        self.lpos = np.searchsorted(self.nodes, left)
+        self.rpos = np.searchsorted(self.nodes, left + 1)
+        self.w = np.asarray(w)
+        self.factor, self.inv_h = np.asarray(factor), np.asarray(inv_h)
+
+    def __len__(self):
+        return len(self.names)
+
+    def series(self):
+        """[(dataset name, column)]: the layout of a row of :meth:`fill`."""
+        return [(gauge_path(name, key), j * len(self) + i)
+                for j, key in enumerate(SERIES) for i, name in enumerate(self.names)]
+
+    def fill(self, u, v, row):
+        """``row`` (4 x gauges, flat: all u, all v, all stress, all strain)
+        from ``u`` and ``v`` at :attr:`nodes`."""
+        out = row.reshape(4, -1)
+        w = self.w
+        for k, field in enumerate((u, v)):
+            a, b = field[self.lpos], field[self.rpos]
+            np.add((1.0 - w) * a, w * b, out=out[k])
+        d = u[self.rpos] - u[self.lpos]
+        np.multiply(d, self.factor, out=out[2])
+        np.multiply(d, self.inv_h, out=out[3])
+
+    def attrs(self):
+        """{group: attributes} of every gauge."""
+        return {gauge_path(g.name): {"body": body, "x": g.x}
+                for g, body in zip(self.specs, self.bodies)}
