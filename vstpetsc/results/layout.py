@@ -113,7 +113,8 @@ class RowFiller:
         self.laws = [(law, [(f"{law.group}/{key}", key) for key in law.series])
                      for law in model.recorded]
         self.energy = [(f"energy/{key}", key) for key in energy_mod.KEYS]
-        self.d = np.empty(max(mesh.nnodes - 1, 0))
+        self.d = None                   # u_{i+1} - u_i when the solver has none
+        self.nnodes = mesh.nnodes
         self.series = series(model)
         self._buffers = self._state = None
 
@@ -150,6 +151,8 @@ class RowFiller:
         for target, key in self._energy:
             target[i] = energy[key]
         if d is None:
+            if self.d is None:
+                self.d = np.empty(max(self.nnodes - 1, 0))
             d = np.subtract(u[1:], u[:-1], out=self.d)
         views = self._views(u, v, d)
         for (bu, bv, bs, _, _, factor), (vu, vv, vd) in zip(self._bodies, views):

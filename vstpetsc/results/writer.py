@@ -379,9 +379,12 @@ def _reason(exc):
     return text.split("(")[0].strip() or type(exc).__name__
 
 
-def _touched(shape, dtype):
+def _touched(shape, dtype, most=1 << 22):
     """An array whose memory is mapped and written once (np.zeros alone maps
-    pages lazily, at first write)."""
+    pages lazily, at first write), when it takes at most ``most`` bytes: a
+    buffer of a few rows of a big mesh is left lazy (a page fault per 4 kB
+    is nothing next to its rows' cost, and untouched rows cost no memory)."""
     out = np.empty(shape, dtype=dtype)
-    out.fill(0)
+    if out.nbytes <= most:
+        out.fill(0)
     return out
