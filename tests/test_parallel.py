@@ -189,3 +189,21 @@ def test_python_api_under_mpirun(tmp_path):
     assert p.returncode == 0, p.stderr
     assert p.stdout.count("slabs 250") == 2 and p.stdout.count("ranks") == 2   # lines may interleave
     assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
+
+
+def test_sweep_on_two_ranks_equals_one(tmp_path):
+    """Runs shared out over two ranks (one rank a run): the same summary
+    as one rank, wall times aside."""
+    case = two_bars(tmp_path)
+    sets = ["--set", "body.striker.v0=0.5,1,2", "--set", "contact.0.formulation=seed,power"]
+    assert cli("sweep", case, *sets, "-o", tmp_path / "one", "--quiet").returncode == 0
+    p = mpirun("sweep", case, *sets, "-o", tmp_path / "two", "--quiet")
+    assert p.returncode == 0 and p.stdout.count("sweep:") == 1, p.stderr
+    from vstpetsc.sweep import read_summary
+    one = read_summary(str(tmp_path / "one" / "summary.csv"))
+    two = read_summary(str(tmp_path / "two" / "summary.csv"))
+    assert one[0] == two[0] and len(one[1]["file"]) == 6
+    for key in one[0]:
+        if key != "wall_time":
+            assert one[1][key] == two[1][key], key
+    assert all(Result(tmp_path / "two" / f).attrs["mpi_size"] == 1 for f in two[1]["file"])

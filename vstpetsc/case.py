@@ -115,6 +115,10 @@ class Case:
         table[key] = value
         return Case(doc, source=self.source, folder=self.folder)
 
+    def check_path(self, path):
+        """CaseError unless ``path`` can name a value (see :meth:`with_value`)."""
+        _locate(self.to_dict(), path)
+
     @property
     def output_file(self):
         """``output.path`` resolved against :attr:`folder`."""

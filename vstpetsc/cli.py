@@ -14,6 +14,9 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
        vstpetsc example [NAME [-o CASE.toml]]   list the bundled cases, or write one
        vstpetsc info RESULT.h5                   one-screen summary of a result
        vstpetsc plot RESULT.h5 [-o FIGURE.png]   velocity map, contact force, energy
+       vstpetsc sweep CASE.toml --set KEY=V1,V2,... [--set ...] [-o DIR] [--quiet]
+                    [PETSc options ...]          a run per combination, DIR/summary.csv
+       vstpetsc plot DIR/summary.csv [--x KEY] [--y QUANTITY] [-o FIGURE.png]
        vstpetsc export RESULT.h5 [--csv DIR] [--xdmf]
                                                  time series as CSV files in DIR; RESULT.xdmf
                                                  (u, v, stress over time) for ParaView
@@ -23,7 +26,7 @@ EXIT_BAD_INPUT = 2
 MAX_LINES = 50          # problems printed at most
 EXIT_SOLVE_FAILED = 3
 # our options that take a value; every other single-dash option is PETSc's
-VALUED = ("-o", "--output", "--every", "--restart")
+VALUED = ("-o", "--output", "--every", "--restart", "--set", "--x", "--y")
 FLAGS = ("--quiet", "--dry-run")
 
 
@@ -106,7 +109,7 @@ def main(argv=None):
         return 0
     command, rest = argv[0], argv[1:]
     commands = {"run": _run, "example": _example, "info": _info, "plot": _plot,
-                "export": _export}
+                "export": _export, "sweep": _sweep}
     if command not in commands:
         return _fail([f"unknown command {command!r} (commands: {', '.join(commands)})"],
                      EXIT_BAD_INPUT)
@@ -264,6 +267,8 @@ def _info(rest):
 def _plot(rest):
     from vstpetsc.results.files import path_problem as output_problem
 
+    if any(tok.endswith(".csv") for tok in rest if not tok.startswith("-")):
+        return _plot_sweep(rest)
     opts = parse_options(rest, ["result"])
     result = _result(opts, "plot")
     out = opts["output"] or os.path.splitext(result.path)[0] + ".png"
@@ -299,4 +304,55 @@ def _export(rest):
         except OSError as exc:
             raise UsageError(f"--xdmf: cannot write beside {result.path}: "
                              f"{exc.strerror}") from None
+    return 0
+
+
+def _sweep(rest):
+    import vstpetsc
+    from vstpetsc.sweep import parse_setting
+
+    ours, petsc_args = split_args(rest)
+    settings, others = {}, []
+    it = iter(ours)
+    for tok in it:
+        if tok == "--set":
+            key, values = parse_setting(next(it))
+            if key in settings:
+                raise UsageError(f"--set {key}: given twice")
+            settings[key] = values
+        else:
+            others.append(tok)
+    opts = parse_options(others, ["case"], flags=("--quiet",))
+    if opts["case"] is None or not settings:
+        raise UsageError("sweep: give CASE.toml and at least one --set KEY=V1,V2,...")
+    case = vstpetsc.Case.from_toml(opts["case"])
+    folder = opts["output"] or os.path.splitext(opts["case"])[0] + "-sweep"
+    if any(not c.isprintable() for c in folder):
+        raise UsageError("-o: the path contains a control character")
+    rows = vstpetsc.sweep(case, settings, folder, options=petsc_args)
+    failed = [r for r in rows if r["status"] != "completed"]
+    if _rank() == 0 and not opts["--quiet"]:
+        for r in rows:
+            values = ", ".join(f"{k}={r[k]}" for k in settings)
+            print(f"{r['file']}  {values}: {r['status']} ({r['wall_time']:.2f} s)"
+                  + (f": {r['message']}" if r.get("message") else ""))
+    if _rank() == 0:
+        print(f"sweep: {len(rows)} runs, {len(rows) - len(failed)} completed, "
+              f"{len(failed)} failed; summary: {os.path.join(folder, 'summary.csv')}")
+    return EXIT_SOLVE_FAILED if failed else 0
+
+
+def _plot_sweep(rest):
+    from vstpetsc.results.files import path_problem as output_problem
+    from vstpetsc.results.plot import plot_sweep
+
+    opts = parse_options(rest, ["summary"], valued=("-o", "--output", "--x", "--y"))
+    path = opts["summary"]
+    if not os.path.isfile(path):
+        raise UsageError(f"{path}: no such file")
+    out = opts["output"] or os.path.splitext(path)[0] + ".png"
+    problem = output_problem(out)
+    if problem:
+        raise UsageError(f"-o: {problem}")
+    print(f"wrote {plot_sweep(path, out, opts['x'], opts['y'])}")
     return 0

@@ -167,23 +167,34 @@ def name_problem(name):
     return None
 
 
+def named_table(chk, tbl, kind, i, keys, taken, reserved=None):
+    """(its usable name or None, where to report) of table ``i`` of
+    ``[[kind]]`` with the allowed ``keys``, names ``taken`` so far
+    ({name: index}) and a ``reserved`` name, after reporting."""
+    where = f"{kind}[{i}]"
+    chk.unknown(tbl, keys, where)
+    name = chk.string(tbl, "name", where)
+    if name is None:
+        return None, where
+    where = f"{kind}[{i}] ({name})"
+    problem = name_problem(name)
+    if problem is None and name == reserved:
+        problem = f"{reserved!r} is reserved for rigid walls"
+    if problem is None and name in taken:
+        problem = f"duplicate name (also {kind}[{taken[name]}])"
+    if problem:
+        chk.add(f"{where}.name", problem)
+        return None, where
+    return name, where
+
+
 def read_gauges(chk, tables, bodies, names):
     """[[gauge]] tables: a list of GaugeSpec."""
     gauges, seen = [], {}
     for i, tbl in enumerate(tables):
-        where = f"gauge[{i}]"
-        chk.unknown(tbl, GAUGE_KEYS, where)
-        name = chk.string(tbl, "name", where)
+        name, where = named_table(chk, tbl, "gauge", i, GAUGE_KEYS, seen)
         if name is not None:
-            where = f"gauge[{i}] ({name})"
-            problem = name_problem(name)
-            if problem is None and name in seen:
-                problem = f"duplicate name (also gauge[{seen[name]}])"
-            if problem:
-                chk.add(f"{where}.name", problem)
-                name = None
-            else:
-                seen[name] = i
+            seen[name] = i
         body = chk.string(tbl, "body", where)
         if body is not None and body not in names:
             chk.add(f"{where}.body", f"unknown body {body!r} (bodies: {', '.join(names) or 'none'})")
@@ -220,19 +231,7 @@ def read_bodies(chk, doc):
 
 def _body(chk, tbl, i, names):
     """(its usable name or None, the Body or None after reporting)."""
-    where = f"body[{i}]"
-    chk.unknown(tbl, BODY_KEYS, where)
-    name = chk.string(tbl, "name", where)
-    if name is not None:
-        where = f"body[{i}] ({name})"
-        problem = name_problem(name)
-        if problem is None and name == WALL:
-            problem = f"{WALL!r} is reserved for rigid walls"
-        if problem is None and name in names:
-            problem = f"duplicate name (also body[{names[name]}])"
-        if problem:
-            chk.add(f"{where}.name", problem)
-            name = None
+    name, where = named_table(chk, tbl, "body", i, BODY_KEYS, names, reserved=WALL)
     x = _interval(chk, tbl, where)
     ne = chk.integer(tbl, "elements", where)
     if ne is not None and ne > MAX_ELEMENTS:

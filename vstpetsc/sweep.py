@@ -25,6 +25,26 @@ from vstpetsc.errors import CaseError, InputError, SolveFailed
 FIXED = ("file", "status", "wall_time")
 
 
+def parse_setting(text):
+    """(key, [values]) of a command-line setting ``KEY=V1,V2,...``; each
+    value read as a TOML value (a number, true/false, a quoted string),
+    else taken as a string."""
+    import tomllib
+
+    key, sep, values = text.partition("=")
+    if not sep or not key or not values:
+        raise InputError(f"--set {text}: give KEY=V1,V2,... (e.g. body.bar.v0=1,2,4)")
+    out = []
+    for item in values.split(","):
+        try:
+            out.append(tomllib.loads(f"v = {item.strip()}")["v"])
+        except tomllib.TOMLDecodeError:
+            out.append(item.strip())
+    if any(v == "" for v in out):
+        raise InputError(f"--set {text}: an empty value")
+    return key, out
+
+
 def combinations(settings):
     """Every combination of ``settings`` ({key: [values]}), the first key
     varying slowest: a list of {key: value}."""
@@ -111,6 +131,8 @@ def sweep(case, settings, folder, options=(), comm=None):
     from vstpetsc import petsc
 
     combos = combinations(settings)
+    for key in settings:
+        case.check_path(key)
     petsc.initialize([])
     comm = petsc.communicator(comm).tompi4py()
     rank, size = comm.Get_rank(), comm.Get_size()

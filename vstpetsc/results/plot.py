@@ -110,3 +110,36 @@ def energy_panel(ax, r, u):
     ax.set_title("(c) energy")
     ax.legend(fontsize=8)
     return ax
+
+
+def plot_sweep(path, out, x=None, y=None):
+    """A sweep's summary.csv: quantity ``y`` against swept key ``x``
+    (defaults: the first column, the first quantity after ``wall_time``);
+    failed runs are left out.  Returns ``out``."""
+    import matplotlib.pyplot as plt
+
+    from vstpetsc.errors import InputError
+    from vstpetsc.sweep import read_summary
+
+    header, data = read_summary(path)
+    if "wall_time" not in header:
+        raise InputError(f"{path}: not a sweep summary (no wall_time column)")
+    after = header[header.index("wall_time") + 1:]
+    x = x or header[0]
+    y = y or next((c for c in after if c != "message"), None)
+    for name, what in ((x, "--x"), (y, "--y")):
+        if name not in header:
+            raise InputError(f"{what} {name}: no such column (columns: {', '.join(header)})")
+    keep = [i for i, s in enumerate(data["status"]) if s == "completed"]
+    xs, ys = (np.array([data[c][i] for i in keep], dtype=float) for c in (x, y))
+    order = np.argsort(xs, kind="stable")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(xs[order], ys[order], "o-")
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    ax.set_title(f"{len(keep)} of {len(data['status'])} runs completed")
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
