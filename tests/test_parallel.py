@@ -207,3 +207,20 @@ def test_sweep_on_two_ranks_equals_one(tmp_path):
         if key != "wall_time":
             assert one[1][key] == two[1][key], key
     assert all(Result(tmp_path / "two" / f).attrs["mpi_size"] == 1 for f in two[1]["file"])
+
+
+def test_cushion_pair_across_two_ranks(tmp_path):
+    """A ram on a pile through a cushion, the pair split between the ranks
+    (nodes 0..20 the ram's, 21.. the pile's):
+    the cushion's state (its largest compression) the same on both."""
+    case = write_case(tmp_path, make_case(
+        0.005, 2.0, [bar("ram", (0.0, 0.5), 20, E=4.0, rho=1.0, v0=1.0),
+                     bar("pile", (0.52, 2.52), 80, E=1.0, rho=1.0)],
+        contacts=[dict(pair=["ram", "pile"], formulation="cushion", stiffness=30.0,
+                       restitution=0.7)],
+        bcs=[dict(body="pile", end="right", type="fixed")]))
+    assert cli("run", case, "-o", tmp_path / "one.h5", "--quiet").returncode == 0
+    p = mpirun("run", case, "-o", tmp_path / "two.h5", "--quiet", "-vst_ownership", "21,81")
+    assert p.returncode == 0, p.stderr
+    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
+    assert Result(tmp_path / "two.h5").contact(0).compression_max.max() > 0

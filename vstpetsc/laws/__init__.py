@@ -6,11 +6,12 @@ index, case, mesh)`` (the :class:`~vstpetsc.laws.base.Law`).  A new law is a
 new module and an entry in one of these registries.
 """
 
-from vstpetsc.laws import absorbing, fixed, gravity, penalty, support, traction, velocity
+from vstpetsc.laws import (absorbing, cushion, fixed, gravity, penalty, support, traction,
+                           velocity)
 
 BOUNDARY = {"fixed": fixed, "velocity": velocity, "traction": traction, "support": support,
             "absorbing": absorbing}
-CONTACT = {"seed": penalty, "power": penalty}
+CONTACT = {"seed": penalty, "power": penalty, "cushion": cushion}
 
 
 def build_laws(case, mesh):

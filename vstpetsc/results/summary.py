@@ -21,6 +21,7 @@ def pair_summary(group, k):
     return {"name": text(a.get("pair", str(k))).replace(",", " | "),
             "formulation": text(a.get("formulation", "")),
             "penalty": float(a.get("penalty", np.nan)), "first_contact": last("first_contact"),
+            "restitution": float(a.get("restitution", np.nan)),
             "duration": duration, "episodes": int(last("episodes")),
             "peak_force": last("force_peak"),
             "mean_force": last("impulse_total") / duration if duration > 0 else 0.0,
@@ -123,11 +124,12 @@ def format_summary(s, path):
     if s["pairs"]:
         lines.append(f"  contact ({s['formulation']}):")
     for k, p in enumerate(s["pairs"]):
+        law = (f"stiffness {p['penalty']:.4g}, restitution {p['restitution']:g}"
+               if p["formulation"] == "cushion" else f"penalty {p['penalty']:.4g}")
         if np.isnan(p["first_contact"]):
-            lines.append(f"    [{k}] {p['name']}: no contact (penalty {p['penalty']:.4g}, "
-                         f"{p['formulation']})")
+            lines.append(f"    [{k}] {p['name']}: no contact ({law}, {p['formulation']})")
             continue
-        lines += [f"    [{k}] {p['name']} ({p['formulation']}, penalty {p['penalty']:.4g})",
+        lines += [f"    [{k}] {p['name']} ({p['formulation']}, {law})",
                   f"        first contact t = {p['first_contact']:.6g}, total duration "
                   f"{p['duration']:.6g}, {p['episodes']} episode(s)",
                   f"        force peak {p['peak_force']:.6g}, mean {p['mean_force']:.6g}; "
