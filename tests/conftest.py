@@ -56,3 +56,17 @@ def cli(*args, cwd=None, timeout=120):
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)
+
+
+def assert_tangent(law, y, got, h, rtol, floor):
+    """The tangent ``got[2:6]`` (df1/dy1, df1/dy2, df2/dy1, df2/dy2) of a
+    law's slab integrals ``law(y1, y2)`` (None: zero) against central
+    finite differences with step h."""
+    for j in range(2):
+        plus, minus = list(y), list(y)
+        plus[j] += h
+        minus[j] -= h
+        fp, fm = law(*plus) or (0.0,) * 6, law(*minus) or (0.0,) * 6
+        for a in range(2):
+            exact = got[2 + 2 * a + j]
+            assert abs((fp[a] - fm[a]) / (2 * h) - exact) <= rtol * max(abs(exact), floor)

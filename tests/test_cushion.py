@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from conftest import bar, cli, make_case, write_case
+from conftest import assert_tangent, bar, cli, make_case, write_case
 from vstpetsc.laws.cushion import cushion_integrals
 
 
@@ -40,16 +40,8 @@ def test_slab_integrals_and_tangent(rng):
         scale = max(abs(got[0]), abs(got[1]))
         assert abs(got[0] - f1) <= 1e-7 * scale and abs(got[1] - f2) <= 1e-7 * scale
         assert abs(got[6] - top) <= 1e-6
-        h = 1e-6
-        for j in range(2):
-            plus, minus = [d1, d2], [d1, d2]
-            plus[j] += h
-            minus[j] -= h
-            fp = cushion_integrals(gn, *plus, dt, k, ku, M) or (0.0,) * 7
-            fm = cushion_integrals(gn, *minus, dt, k, ku, M) or (0.0,) * 7
-            for a in range(2):
-                fd = (fp[a] - fm[a]) / (2 * h)
-                assert abs(fd - got[2 + 2 * a + j]) <= 1e-5 * max(abs(got[2 + 2 * a + j]), 1e-3)
+        assert_tangent(lambda a, b: cushion_integrals(gn, a, b, dt, k, ku, M), (d1, d2), got,
+                       1e-6, 1e-5, 1e-3)
     assert checked > 30
 
 

@@ -146,7 +146,9 @@ class Recorder:
         snapshots = self._snapshots(rhs=snapshot)
         if self.writer:
             writer, self.writer = self.writer, None
-            writer.close(status, snapshots, slab, slabs_done=slab, **attrs)
+            groups = {law.group: law.final_attrs() for law in self.model.recorded
+                      if hasattr(law, "final_attrs")}
+            writer.close(status, snapshots, slab, groups=groups, slabs_done=slab, **attrs)
 
 
 def load_restart(path, case, model, energy):

@@ -148,3 +148,44 @@ def _solve_dense(M, r):
         return list(np.linalg.solve(np.array(M), np.array(r)))
     except np.linalg.LinAlgError:
         return None
+
+
+class ManyLawNewton(ReducedNewton):
+    """:class:`ReducedNewton` for many laws (Smith soil on every shaft
+    node): the products with S and the step's system over the acting laws
+    in numpy, the laws still evaluated one by one."""
+
+    def __init__(self, lawset, S, **kw):
+        super().__init__(lawset, S, **kw)
+        self.S_np = np.array(S, dtype=float)
+
+    def _residual(self, y, y0):
+        outs = [law.force(y[2 * j], y[2 * j + 1]) for j, law in enumerate(self.laws)]
+        f = np.zeros(self.n)
+        for j, out in enumerate(outs):
+            if out is not None:
+                f[2 * j], f[2 * j + 1] = out[0], out[1]
+        sf = self.S_np @ f
+        r = np.asarray(y, dtype=float) - np.asarray(y0, dtype=float) + sf
+        return outs, r.tolist(), float(np.abs(sf).max())
+
+    def _step(self, outs, r):
+        """(I + S J) d = r: over the acting laws' rows A first
+        (d_A + S_AA J_A d_A = r_A), then d_I = r_I - S_IA J_A d_A."""
+        active = [j for j, out in enumerate(outs) if out is not None]
+        if not active:
+            return list(r)
+        rows = np.array([i for j in active for i in (2 * j, 2 * j + 1)])
+        J = np.zeros((rows.size, rows.size))
+        for k, j in enumerate(active):
+            out = outs[j]
+            J[2 * k:2 * k + 2, 2 * k:2 * k + 2] = ((out[2], out[3]), (out[4], out[5]))
+        r = np.asarray(r, dtype=float)
+        M = np.eye(rows.size) + self.S_np[np.ix_(rows, rows)] @ J
+        try:
+            dA = np.linalg.solve(M, r[rows])
+        except np.linalg.LinAlgError:
+            return None
+        step = r - self.S_np[:, rows] @ (J @ dA)
+        step[rows] = dA
+        return step.tolist() if np.isfinite(step).all() else None

@@ -16,7 +16,7 @@ from vstpetsc.history import History
 WALL = "wall"
 ENDS = ("left", "right")
 UNITS = {"length": "m", "time": "s", "mass": "kg"}
-TOP = ("time", "output", "body", "contact", "bc", "units", "gravity", "gauge")
+TOP = ("time", "output", "body", "contact", "bc", "units", "gravity", "gauge", "soil")
 GAUGE_KEYS = ("name", "body", "x")
 BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0", "damping", "foundation")
 INITIAL = ("rest", "static")
@@ -97,6 +97,8 @@ def read(doc, folder=None):
     parts["gravity"] = read_gravity(chk, chk.table(doc, "gravity", "gravity", required=False),
                                     bodies)
     parts["gauges"] = read_gauges(chk, chk.tables(doc, "gauge"), bodies, names)
+    parts["soils"] = [laws.soil.read(chk, tbl, f"soil[{i}]", bodies, names)
+                      for i, tbl in enumerate(chk.tables(doc, "soil"))]
     if chk.problems:
         raise CaseError(chk.problems)
     parts.update(bodies=bodies, contacts=contacts, bcs=bcs, input_files=chk.inputs)

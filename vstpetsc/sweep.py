@@ -63,6 +63,8 @@ def quantities(result):
         out.update({f"force_peak_{k}": pair["peak_force"],
                     f"contact_time_{k}": pair["duration"], f"impulse_{k}": pair["impulse"]})
     out["numerical_energy"] = s["energy"].get("numerical", math.nan)
+    for k, soil in enumerate(s.get("soils", [])):
+        out.update({f"set_{k}": soil["set"], f"blow_count_{k}": soil["blow_count"]})
     for body in s["bodies"]:
         out[f"stress_min_{body['name']}"] = body.get("compression", (math.nan,))[0]
         out[f"stress_max_{body['name']}"] = body.get("tension", (math.nan,))[0]

@@ -6,8 +6,8 @@ index, case, mesh)`` (the :class:`~vstpetsc.laws.base.Law`).  A new law is a
 new module and an entry in one of these registries.
 """
 
-from vstpetsc.laws import (absorbing, cushion, fixed, gravity, penalty, support, traction,
-                           velocity)
+from vstpetsc.laws import (absorbing, cushion, fixed, gravity, penalty, soil, support,
+                           traction, velocity)
 
 BOUNDARY = {"fixed": fixed, "velocity": velocity, "traction": traction, "support": support,
             "absorbing": absorbing}
@@ -15,11 +15,13 @@ CONTACT = {"seed": penalty, "power": penalty, "cushion": cushion}
 
 
 def build_laws(case, mesh):
-    """Every law of ``case``: its contact pairs in order, its [[bc]]s, then
-    gravity."""
+    """Every law of ``case``: its contact pairs in order, its [[bc]]s, its
+    [[soil]] tables, then gravity."""
     laws = [CONTACT[c.formulation].build(c, k, case, mesh)
             for k, c in enumerate(case.contacts)]
     laws += [BOUNDARY[b.type].build(b, k, case, mesh) for k, b in enumerate(case.bcs)]
+    for k, spec in enumerate(case.soils):
+        laws += soil.build(spec, k, case, mesh)
     if case.gravity is not None:
         laws.append(gravity.build(case.gravity))
     return laws

@@ -8,7 +8,9 @@ from petsc4py import PETSc
 from vstpetsc.lawset import LawSet
 from vstpetsc.petsc.newton import Coupling, Full, SnesCondensed
 from vstpetsc.petsc.options import PREFIX
-from vstpetsc.reduced_newton import ReducedNewton
+from vstpetsc.reduced_newton import ManyLawNewton, ReducedNewton
+
+MANY = 4        # laws from which the plain Newton does its linear algebra in numpy
 
 # ReducedNewton reads these itself; any other -snes_* option (a monitor, a
 # line search, -snes_test_jacobian) asks for PETSc's SNES.
@@ -32,7 +34,9 @@ class LawSolver:
         self.newton = None
         self.f = np.zeros(self.laws.reduced)      # the laws' terms of the last slab
         self.acted = False
-        self.work = 0.0                           # f . y the laws took, summed
+        # f . y the laws took, summed per energy term ("contact", "soil")
+        self.keys = [getattr(law, "energy_key", "contact") for law in self.laws.laws]
+        self.work = dict.fromkeys(["contact", *self.keys], 0.0)
         if not self.active:
             return
         space = solver.space
@@ -46,7 +50,8 @@ class LawSolver:
                                         space.comm.getRank())
         else:
             opts = PETSc.Options()
-            self.newton = ReducedNewton(self.laws, self.coupling.S_red,
+            kind = ManyLawNewton if len(self.laws.laws) > MANY else ReducedNewton
+            self.newton = kind(self.laws, self.coupling.S_red,
                                         rtol=opts.getReal(PREFIX + "snes_rtol", 1e-12),
                                         atol=opts.getReal(PREFIX + "snes_atol", 1e-50),
                                         max_it=opts.getInt(PREFIX + "snes_max_it", 30))
@@ -74,7 +79,9 @@ class LawSolver:
             X.maxpy(-laws.f, self.coupling.Zred)
         self.f[:] = laws.f
         self.acted = True
-        self.work += sum(map(float.__mul__, self.f.tolist(), list(map(float, y))))
+        f, y = self.f.tolist(), list(map(float, y))
+        for j, key in enumerate(self.keys):
+            self.work[key] += f[2 * j] * y[2 * j] + f[2 * j + 1] * y[2 * j + 1]
         return self.newton.iterations
 
     def advance(self, X, b):
@@ -88,7 +95,7 @@ class LawSolver:
         """The Newton in use, for the run header."""
         if self.newton is None:
             return ""
-        if isinstance(self.newton, ReducedNewton):
+        if isinstance(self.newton, ReducedNewton):      # ManyLawNewton too
             return f"; Newton: plain, on the laws' {self.laws.reduced} coordinates"
         where = "all unknowns" if isinstance(self.newton, Full) else \
             f"the laws' {self.laws.reduced} coordinates"

@@ -168,7 +168,7 @@ class SlabSolver:
 
     def totals(self):
         """The summed energy terms over every rank (collective)."""
-        return {**self.work, "contact": self.nonlinear.work,
+        return {**self.work, **self.nonlinear.work,
                 "external": self.space.sum_over_ranks(self.local_work)}
 
     def set_state(self, u, v, envelope=None):

@@ -45,7 +45,8 @@ def series(model):
         out += [(body_path(body.name, "u"), (nn,)), (body_path(body.name, "v"), (nn,)),
                 (body_path(body.name, "stress"), (body.elements,))]
     for law in model.recorded:
-        out += [(f"{law.group}/{key}", ()) for key in law.series]
+        shape = getattr(law, "series_shape", lambda key: ())
+        out += [(f"{law.group}/{key}", shape(key)) for key in law.series]
     out += [(name, ()) for name, _ in Gauges(model).series()]
     return out + [(name, ()) for name in ENERGY + SOLVER]
 

@@ -50,6 +50,7 @@ def summarize(result):
         "kept": time.size, "t_end": float(time[-1]) if time.size else 0.0,
         "bodies": bodies, "pairs": pairs,
         "gauges": [gauge_summary(result, name) for name in result.gauges],
+        "soils": soil_summaries(result), "unit_length": text(a.get("unit_length", "m")),
         "energy_start": float(energy[0]) if energy.size else np.nan,
         "energy_end": float(energy[-1]) if energy.size else np.nan,
         "newton_mean": float(newton.mean()) if newton.size else 0.0,
@@ -60,6 +61,22 @@ def summarize(result):
         "energy_initial": float(sum(energies[k][0] for k in
                                     ("kinetic", "strain", "spring", "contact") if k in energies)),
     }
+
+
+def soil_summaries(result):
+    """Per [[soil]] table: the set (the toe's plastic slip so far), blow
+    count (1 / set, inf at refusal), largest toe and shaft forces, the
+    energy the soil took."""
+    out = []
+    for k in range(len(result.keys("soil")) if "soil" in result else 0):
+        s = result.series(f"soil/{k}")
+        a = result.group_attrs(f"soil/{k}")
+        slip = float(a.get("set", s["toe_slip"][-1]))
+        out.append({"set": slip, "blow_count": 1.0 / slip if slip > 0 else np.inf,
+                    "toe_force_max": float(s["toe_force"].max()),
+                    "shaft_force_max": float(s["shaft_force"].max()),
+                    "energy": float(s["energy"][-1])})
+    return out
 
 
 def gauge_summary(result, name):
@@ -121,6 +138,7 @@ def format_summary(s, path):
                 lines.append(f"      largest {kind} stress {value:.6g} at x = {where:.6g}, "
                              f"t = {when:.6g}")
     lines += gauge_lines(s.get("gauges", []))
+    lines += soil_lines(s.get("soils", []), s.get("unit_length", "m"))
     if s["pairs"]:
         lines.append(f"  contact ({s['formulation']}):")
     for k, p in enumerate(s["pairs"]):
@@ -158,4 +176,17 @@ def gauge_lines(gauges):
                      f"{g['stress_min']:.6g} (t = {g['t_stress_min']:.6g}) .. "
                      f"{g['stress_max']:.6g} (t = {g['t_stress_max']:.6g}); peak v "
                      f"{g['v_peak']:.6g} (t = {g['t_v_peak']:.6g})")
+    return lines
+
+
+def soil_lines(soils, unit):
+    """The soil lines of `vstpetsc info`."""
+    lines = []
+    for k, soil in enumerate(soils):
+        count = soil["blow_count"]
+        per = (f" ({0.25 * count:.4g} per 0.25 m)" if unit == "m" and np.isfinite(count) else "")
+        lines += [f"  soil[{k}]: set {soil['set']:.6g} {unit}, blow count {count:.6g} per {unit}"
+                  f"{per}",
+                  f"    largest toe force {soil['toe_force_max']:.6g}, shaft force "
+                  f"{soil['shaft_force_max']:.6g}; energy taken {soil['energy']:.6g}"]
     return lines

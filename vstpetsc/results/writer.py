@@ -290,8 +290,9 @@ class ResultWriter:
         self.flushed_slab = int(self.buffers["solver/slab"][k - 1])
         self.n, self.pending = n + k, 0
 
-    def close(self, status, snapshots=None, slab=None, **attrs):
-        """Write what is buffered, set the status and attributes, close the
+    def close(self, status, snapshots=None, slab=None, groups=None, **attrs):
+        """Write what is buffered, set the status and attributes (``groups``:
+        {group: attributes} too), close the
         file, cut off the reserved tail and release the lock.  If the last
         block cannot be written the status becomes "failed" and the error
         is raised after the file is closed."""
@@ -306,6 +307,8 @@ class ResultWriter:
                 self.f.attrs["status"] = status
                 for k, v in attrs.items():
                     self.f.attrs[k] = v
+                for group, values in (groups or {}).items():
+                    self.f[group].attrs.update(values)
                 self.f.flush()
             except (OSError, RuntimeError, ValueError) as exc:
                 self.broken = True

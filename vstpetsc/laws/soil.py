@@ -1,0 +1,206 @@
+"""Smith soil on a body ([[soil]], docs/pile-driving.md): a nonlinear law
+per soil node (:class:`SoilNode`, its slab integrals in
+:mod:`vstpetsc.laws.smith`) and one law that reports the table's totals
+(:class:`SoilReport`, the result group ``/soil/<k>``).
+
+A shaft node's share of the shaft capacity (1 - toe_share) R_u is the part
+of its tributary length inside [from, to]; the toe node (the body's end
+``toe.end``, which moves into the ground) takes toe_share R_u.  "Into the
+ground" is +x for a toe at the right end, -x at the left.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from vstpetsc.laws.base import Law
+from vstpetsc.laws.smith import smith_integrals
+
+KEYS = ("body", "capacity", "toe_share", "shaft", "toe")
+SHAFT_KEYS = ("quake", "damping", "from", "to")
+TOE_KEYS = ("quake", "damping", "end")
+
+
+@dataclass
+class SoilSpec:
+    """A [[soil]] table, validated (body number, forces, lengths, times per length)."""
+
+    body: int
+    capacity: float
+    toe_share: float
+    shaft: dict
+    toe: dict
+
+
+def read(chk, tbl, where, bodies, names):
+    """A SoilSpec, or None after reporting."""
+    chk.unknown(tbl, KEYS, where)
+    name = chk.string(tbl, "body", where)
+    if name is not None and name not in names:
+        chk.add(f"{where}.body", f"unknown body {name!r} (bodies: {', '.join(names) or 'none'})")
+        name = None
+    capacity = chk.number(tbl, "capacity", where, minimum=0.0)
+    share = chk.number(tbl, "toe_share", where, minimum=0.0, maximum=1.0)
+    body = None if name is None else bodies[names[name]]
+    # a part is needed when it carries some of the capacity
+    shaft = _part(chk, tbl, "shaft", where, SHAFT_KEYS, share is not None and share < 1.0)
+    toe = _part(chk, tbl, "toe", where, TOE_KEYS, share is not None and share > 0.0)
+    if toe is not None and "toe" in tbl:
+        toe["end"] = chk.string(tbl["toe"], "end", f"{where}.toe", required=False,
+                                default="right", choices=("left", "right"))
+    if shaft is not None and body is not None and "shaft" in tbl:
+        lo = chk.number(tbl["shaft"], "from", f"{where}.shaft", required=False,
+                        default=body.x[0])
+        hi = chk.number(tbl["shaft"], "to", f"{where}.shaft", required=False,
+                        default=body.x[1])
+        if None not in (lo, hi) and not body.x[0] <= lo < hi <= body.x[1]:
+            chk.add(f"{where}.shaft", f"from = {lo:g}, to = {hi:g} must satisfy "
+                    f"{body.x[0]:g} <= from < to <= {body.x[1]:g} (body {name!r})")
+            lo = None
+        shaft.update({"from": lo, "to": hi})
+    elif shaft is not None and body is not None:
+        shaft.update({"from": body.x[0], "to": body.x[1]})
+    if toe is not None:
+        toe.setdefault("end", "right")
+    parts = (body, capacity, share, shaft, toe)
+    if any(v is None for v in parts) or None in shaft.values() or None in toe.values():
+        return None
+    return SoilSpec(names[name], capacity, share, shaft, toe)
+
+
+def _part(chk, tbl, key, where, keys, needed):
+    """{quake, damping} of the inline table ``key``: quake > 0 (length),
+    damping J >= 0 (time per length); an unused part may be left out."""
+    if key not in tbl and not needed:
+        return {"quake": 1.0, "damping": 0.0}
+    sub = chk.table(tbl, key, f"{where}.{key}", required=True)
+    if not isinstance(tbl.get(key), dict):
+        return None                     # reported
+    chk.unknown(sub, keys, f"{where}.{key}")
+    return {"quake": chk.number(sub, "quake", f"{where}.{key}", positive=True),
+            "damping": chk.number(sub, "damping", f"{where}.{key}", required=False,
+                                  default=0.0, minimum=0.0)}
+
+
+def shaft_shares(x, lo, hi):
+    """Each node's tributary length inside [lo, hi] over the total (the
+    nodes ``x`` of one body)."""
+    mid = np.concatenate([[x[0]], 0.5 * (x[1:] + x[:-1]), [x[-1]]])
+    inside = np.clip(np.minimum(mid[1:], hi) - np.maximum(mid[:-1], lo), 0.0, None)
+    return inside / inside.sum()
+
+
+class SoilNode(Law):
+    """The Smith resistance on one node: capacity ``Ru``, quake ``q``,
+    damping ``J``; ``toe`` resists only motion into the ground."""
+
+    energy_key = "soil"
+
+    def __init__(self, node, direction, Ru, q, J, toe, dt):
+        self.nodes, self.signs = np.array([node]), np.array([direction])
+        self.Ru, self.k, self.J, self.toe, self.dt = Ru, Ru / q, J, toe, dt
+        self.p = 0.0                   # plastic slip into the ground
+        self.tally = [0.0]             # energy its table's nodes took (shared, see SoilReport)
+        self.impulse = 0.0
+        self.last = None
+
+    def start_slab(self, u, dt):
+        self.wn = float(self.signs[0] * u[0])
+
+    def acts(self, y1, y2):
+        if not self.toe:
+            return self.wn != self.p or y1 != 0.0 or y2 != 0.0
+        # the toe: w - p > 0 somewhere (w's extremes: the ends and its vertex)
+        b0, b1, b2 = self.wn - self.p, self.dt * y1, 0.5 * self.dt * (y2 - y1)
+        t = -b1 / (2.0 * b2) if b2 != 0.0 else 0.0
+        return b0 > 0.0 or b0 + b1 + b2 > 0.0 or (0.0 < t < 1.0 and b0 + t * (b1 + t * b2) > 0.0)
+
+    def force(self, y1, y2):
+        out = smith_integrals(self.wn, self.p, y1, y2, self.dt, self.k, self.Ru, self.J,
+                              self.toe)
+        self.last = None if out is None else (out, y1, y2)
+        return None if out is None else out[:6]
+
+    def static(self, u):
+        """(residual, tangent) of the static resistance at displacement u
+        (elastic about the slip, clipped at the capacity; the slip itself
+        is not moved: a static state needs the soil elastic)."""
+        s = self.signs[0]
+        Rs = self.k * (s * u[0] - self.p)
+        lo = 0.0 if self.toe else -self.Ru
+        clipped = min(max(Rs, lo), self.Ru)
+        return np.array([s * clipped]), np.array([[self.k * (clipped == Rs)]])
+
+    def finish_slab(self, t0, dt):
+        if self.last is None:
+            self.impulse = 0.0
+            return
+        out, y1, y2 = self.last
+        self.impulse = out[0] + out[1]
+        self.tally[0] += out[0] * y1 + out[1] * y2
+        self.p = out[6]
+
+
+class SoilReport(Law):
+    """The totals of soil table ``index``: group ``/soil/<index>``."""
+
+    series = ("toe_force", "shaft_force", "energy", "toe_slip", "slip")
+
+    def __init__(self, index, shaft, toe, dt):
+        self.index, self.group = index, f"soil/{index}"
+        self.shaft, self.toe, self.dt = shaft, toe, dt
+        self.nodes_all = shaft + ([toe] if toe else [])
+        # one running sum, added to node by node in a fixed order, so that
+        # a restart continues it bit for bit
+        self.tally = [0.0]
+        for node in self.nodes_all:
+            node.tally = self.tally
+
+    def series_shape(self, key):
+        return (len(self.nodes_all),) if key == "slip" else ()
+
+    def values(self, u):
+        return {"toe_force": self.toe.impulse / self.dt if self.toe else 0.0,
+                "shaft_force": sum(n.impulse for n in self.shaft) / self.dt,
+                "energy": self.tally[0],
+                "toe_slip": self.toe.p if self.toe else 0.0,
+                "slip": np.array([n.p for n in self.nodes_all])}
+
+    def restore(self, values):
+        for n, p in zip(self.nodes_all, np.atleast_1d(values["slip"])):
+            n.p = float(p)
+        self.tally[0] = float(values["energy"])
+
+    def final_attrs(self):
+        """``set`` (the toe's plastic slip: the blow's permanent set) and
+        ``blow_count`` (1 / set; inf at refusal)."""
+        s = self.toe.p if self.toe else 0.0
+        return {"set": s, "blow_count": 1.0 / s if s > 0.0 else math.inf}
+
+    def attrs(self):
+        return {"nodes": len(self.nodes_all), "toe": int(self.toe is not None)}
+
+    def describe(self):
+        return (f"soil[{self.index}]: {len(self.shaft)} shaft nodes"
+                + (", a toe" if self.toe else ""))
+
+
+def build(spec, index, case, mesh):
+    """The node laws of one [[soil]] table and its report (the report last)."""
+    b = spec.body
+    nodes = np.arange(mesh.nodes(b).start, mesh.nodes(b).stop)
+    toe_end = spec.toe["end"]
+    direction = 1.0 if toe_end == "right" else -1.0
+    shaft_ru = (1.0 - spec.toe_share) * spec.capacity
+    shares = shaft_shares(mesh.x[nodes], spec.shaft["from"], spec.shaft["to"])
+    shaft = [SoilNode(int(n), direction, shaft_ru * s, spec.shaft["quake"],
+                      spec.shaft["damping"], False, case.dt)
+             for n, s in zip(nodes, shares) if shaft_ru * s > 0.0]
+    toe_ru = spec.toe_share * spec.capacity
+    toe = None
+    if toe_ru > 0.0:
+        toe = SoilNode(mesh.end_node(b, toe_end), direction, toe_ru, spec.toe["quake"],
+                       spec.toe["damping"], True, case.dt)
+    report = SoilReport(index, shaft, toe, case.dt)
+    return shaft + ([toe] if toe else []) + [report]
