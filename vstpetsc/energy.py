@@ -8,8 +8,10 @@ import numpy as np
 
 from vstpetsc import model as model_mod
 
-SUMMED = ("damping", "external", "contact", "soil")
+SUMMED = ("damping", "external", "contact", "soil", "transferred")
 KEYS = ("kinetic", "strain", "spring") + SUMMED + ("numerical",)
+# "transferred": the work of a cushion on the pile head (pile driving), an
+# exchange between bodies, not a term of the balance
 
 
 class EnergyBook:

@@ -65,6 +65,8 @@ def quantities(result):
     out["numerical_energy"] = s["energy"].get("numerical", math.nan)
     for k, soil in enumerate(s.get("soils", [])):
         out.update({f"set_{k}": soil["set"], f"blow_count_{k}": soil["blow_count"]})
+    if s.get("soils"):
+        out["transferred_energy"] = s["energy"].get("transferred", math.nan)
     for body in s["bodies"]:
         out[f"stress_min_{body['name']}"] = body.get("compression", (math.nan,))[0]
         out[f"stress_max_{body['name']}"] = body.get("tension", (math.nan,))[0]

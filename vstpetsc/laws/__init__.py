@@ -22,6 +22,7 @@ def build_laws(case, mesh):
     laws += [BOUNDARY[b.type].build(b, k, case, mesh) for k, b in enumerate(case.bcs)]
     for k, spec in enumerate(case.soils):
         laws += soil.build(spec, k, case, mesh)
+        soil.mark_head(laws, spec, mesh)
     if case.gravity is not None:
         laws.append(gravity.build(case.gravity))
     return laws

@@ -204,3 +204,12 @@ def build(spec, index, case, mesh):
                        spec.toe["damping"], True, case.dt)
     report = SoilReport(index, shaft, toe, case.dt)
     return shaft + ([toe] if toe else []) + [report]
+
+
+def mark_head(laws, spec, mesh):
+    """Mark the contact pair at the pile's head (the end opposite its toe)
+    so that its work on the pile is reported as ``/energy/transferred``."""
+    head = mesh.end_node(spec.body, "left" if spec.toe["end"] == "right" else "right")
+    for law in laws:
+        if law.group and law.group.startswith("contact/") and head in law.nodes:
+            law.transfer_node = int(np.flatnonzero(law.nodes == head)[0])

@@ -37,6 +37,13 @@ class LawSolver:
         # f . y the laws took, summed per energy term ("contact", "soil")
         self.keys = [getattr(law, "energy_key", "contact") for law in self.laws.laws]
         self.work = dict.fromkeys(["contact", *self.keys], 0.0)
+        # laws whose work on one of their nodes is reported ("transferred")
+        self.heads = [(j, -law.signs[law.transfer_node],
+                       int(self.laws.node_index[j][law.transfer_node]))
+                      for j, law in enumerate(self.laws.laws)
+                      if getattr(law, "transfer_node", None) is not None]
+        if self.heads:
+            self.work["transferred"] = 0.0
         if not self.active:
             return
         space = solver.space
@@ -90,6 +97,16 @@ class LawSolver:
         self.laws.u += self.coupling.increments(X)
         if self.acted:
             self.coupling.gather.add_rows(b, self.coupling.carry_rows @ self.f)
+            if self.heads:
+                self._transfer(X)
+
+    def _transfer(self, X):
+        """The slab's work of the marked laws on their node: the node
+        feels -c f^a, so its work is -c (f1 v^1 + f2 v^2)."""
+        s = self.coupling.velocities(X)
+        for j, sign, i in self.heads:
+            self.work["transferred"] += sign * (self.f[2 * j] * s[2 * i]
+                                                + self.f[2 * j + 1] * s[2 * i + 1])
 
     def describe(self):
         """The Newton in use, for the run header."""

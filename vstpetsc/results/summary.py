@@ -138,7 +138,8 @@ def format_summary(s, path):
                 lines.append(f"      largest {kind} stress {value:.6g} at x = {where:.6g}, "
                              f"t = {when:.6g}")
     lines += gauge_lines(s.get("gauges", []))
-    lines += soil_lines(s.get("soils", []), s.get("unit_length", "m"))
+    lines += soil_lines(s.get("soils", []), s.get("unit_length", "m"),
+                        s["energy"].get("transferred", 0.0))
     if s["pairs"]:
         lines.append(f"  contact ({s['formulation']}):")
     for k, p in enumerate(s["pairs"]):
@@ -179,9 +180,9 @@ def gauge_lines(gauges):
     return lines
 
 
-def soil_lines(soils, unit):
+def soil_lines(soils, unit, transferred):
     """The soil lines of `vstpetsc info`."""
-    lines = []
+    lines = [f"  energy transferred into the pile {transferred:.6g}"] if soils else []
     for k, soil in enumerate(soils):
         count = soil["blow_count"]
         per = (f" ({0.25 * count:.4g} per 0.25 m)" if unit == "m" and np.isfinite(count) else "")
