@@ -23,6 +23,7 @@ sys.path.insert(0, HERE)
 import limit  # noqa: E402
 import overhead  # noqa: E402
 import peer   # noqa: E402
+import smith  # noqa: E402
 
 TARGETS = (1e-4, 1e-6, 1e-8)
 
@@ -79,6 +80,10 @@ def measure(quick):
                       "contact_ms": 1e3 * touch[0], "ratio": touch[0] / free[0]}
     print(f"contact: {res['contact']}", flush=True)
     res["overhead"] = measure_overhead(quick)
+    from vstpetsc import Case, bundled
+    pile = Case.from_toml(bundled.path("pile"))
+    res["pile"] = smith.compare(pile, (25, 50) if quick else (25, 50, 100),
+                                (50, 100, 200) if quick else (50, 100, 200, 400))
     x = np.log([r["elements"] for r in res["limit"]])
     y = np.log([r["slab_min_ms"] for r in res["limit"]])
     res["growth_exponent"] = float(np.polyfit(x[-3:], y[-3:], 1)[0])
@@ -127,7 +132,34 @@ def readme(res):
               f"elements): {c['contact_ms']:.3f} ms against {c['no_contact_ms']:.3f} ms "
               f"without contact, ratio {c['ratio']:.2f}."]
     return "\n".join(lines + peer_section(res) + accuracy_section(res)
-                     + overhead_section(res) + reading(res)) + "\n"
+                     + overhead_section(res) + pile_section(res) + reading(res)) + "\n"
+
+
+def table_head(title, intro, columns):
+    """A README section's title, its paragraph and a table's head."""
+    return ["", f"## {title}", "", intro, "", "| " + " | ".join(columns) + " |",
+            "|" + "---|" * len(columns)]
+
+
+def pile_section(res):
+    """The bundled pile blow against the lumped-mass Smith algorithm."""
+    pile = res.get("pile")
+    if not pile:
+        return []
+    lines = table_head(
+        "Pile driving: against the lumped-mass Smith algorithm",
+        "The bundled `pile` blow (20 m steel pipe pile, 3 t ram at 4.43 m/s, cushion, "
+        "Smith soil of 1.5 MN) with vstpetsc (the whole run, file included) and with the "
+        "classical explicit lumped-mass algorithm of Smith (1960) written in numpy "
+        "(bench/smith.py, dt = dx / 2c, best of 3).",
+        ("method", "resolution", "steps", "set [mm]", "compression [MPa]", "tension [MPa]",
+         "transferred [kJ]", "wall [s]"))
+    for key, label in (("vstpetsc", "elements"), ("smith", "segments")):
+        for r in pile[key]:
+            lines.append(f"| {key} | {r[label]} {label} | {r['steps']} | {1e3 * r['set']:.4f} | "
+                         f"{-1e-6 * r['stress_min']:.2f} | {1e-6 * r['stress_max']:.2f} | "
+                         f"{1e-3 * r['transferred']:.3f} | {r['wall']:.3f} |")
+    return lines
 
 
 def peer_section(res):
@@ -207,18 +239,18 @@ def overhead_section(res):
     ov = res.get("overhead")
     if not ov:
         return []
-    lines = ["", "## At the sizes people run: per-slab cost against the floor", "",
-             "A whole `vstpetsc run` in a subprocess with output every slab; time per slab "
-             "from the result file's wall-time series over the middle 80 % of the run "
-             "(start-up and the last block excluded); the floor is one PCApply with the "
-             "factored slab matrix of the same case, timed in the same process run as "
-             "the table. Cases (bench/overhead.py): free = clamped bar vibrating, c dt/h "
-             "= 0.5; held = bar between two walls at zero gap, pressing on one or the "
-             "other in every slab, c dt/h = 0.5; impact = the same at c dt/h = 1 (the "
-             "contact node chatters, the gap opens and closes inside slabs).", "",
-             "| case | elements | slabs | slab [us] min / median | floor [us] min / median "
-             "| ratio min / median | goal | Newton its / slab |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = table_head(
+        "At the sizes people run: per-slab cost against the floor",
+        "A whole `vstpetsc run` in a subprocess with output every slab; time per slab "
+        "from the result file's wall-time series over the middle 80 % of the run "
+        "(start-up and the last block excluded); the floor is one PCApply with the "
+        "factored slab matrix of the same case, timed in the same process run as "
+        "the table. Cases (bench/overhead.py): free = clamped bar vibrating, c dt/h "
+        "= 0.5; held = bar between two walls at zero gap, pressing on one or the "
+        "other in every slab, c dt/h = 0.5; impact = the same at c dt/h = 1 (the "
+        "contact node chatters, the gap opens and closes inside slabs).",
+        ("case", "elements", "slabs", "slab [us] min / median", "floor [us] min / median",
+         "ratio min / median", "goal", "Newton its / slab"))
     for r in ov["rows"]:
         goal = "" if r["goal"] is None else (f"<= {r['goal']:g} "
                                              f"({'met' if r['ratio'] <= r['goal'] else 'not met'})")

@@ -80,7 +80,7 @@ def test_run_returns_a_lazy_result(tmp_path):
     assert abs(mean - 1.0) < 0.03                      # Z v0 = 1
     assert pair.attrs["formulation"] == "seed" and result.run.slabs == 250
     assert set(result.energy) == {"kinetic", "strain", "spring", "damping", "external", "contact",
-                                  "soil", "numerical"}
+                                  "soil", "transferred", "numerical"}
     summary = result.summary()
     assert summary["status"] == "completed" and summary["pairs"][0]["episodes"] == 1
     again = vstpetsc.Result(result.path)

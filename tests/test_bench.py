@@ -44,5 +44,9 @@ def test_bench_quick_reports_every_field(tmp_path):
         # the contact cases keep a pair active (timed over those slabs)
         assert row["active_share"] >= 0.5 or row["case"] == "free"
     assert ov["bar_wall_min_s"] > 0
+    pile = res["pile"]
+    assert len(pile["vstpetsc"]) == 2 and len(pile["smith"]) == 3
+    for row in pile["vstpetsc"] + pile["smith"]:
+        assert row["set"] > 0 and row["wall"] > 0 and row["transferred"] > 0
     text = (tmp_path / "README.md").read_text()
     assert "| elements |" in text and "| case | elements |" in text

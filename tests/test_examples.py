@@ -298,3 +298,29 @@ def test_info_and_plot_reject_bad_files(tmp_path):
         assert p.returncode == 2 and "not an HDF5 file" in p.stderr and "Traceback" not in p.stderr
         p = cli(cmd, tmp_path / "missing.h5")
         assert p.returncode == 2 and "no such file" in p.stderr
+
+
+def test_pile_against_the_smith_lumped_mass_peer(results):
+    """The bundled pile blow against the classical explicit Smith (1960)
+    algorithm (bench/smith.py) at 200 segments: set, largest compressive
+    stress and the energy transferred into the pile; the energy balance."""
+    import sys
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(__file__)), "bench"))
+    import smith
+
+    r = results["pile"]
+    case = case_of(r)
+    peer = smith.run(case, 200, case.nslabs * case.dt)
+    s = r.summary()
+    pile = [b for b in s["bodies"] if b["name"] == "pile"][0]
+    got = {"set": s["soils"][0]["set"], "stress_min": pile["compression"][0],
+           "transferred": s["energy"]["transferred"]}
+    print("pile: vstpetsc", got, "Smith", peer)
+    assert abs(got["set"] - peer["set"]) <= 0.01 * peer["set"]
+    assert abs(got["stress_min"] - peer["stress_min"]) <= 0.02 * abs(peer["stress_min"])
+    assert abs(got["transferred"] - peer["transferred"]) <= 0.01 * peer["transferred"]
+    e = {k: v[-1] for k, v in r.energy.items()}
+    ram = case.bodies[0]
+    brought = 0.5 * float(ram.rho(0) * ram.area(0)) * (ram.x[1] - ram.x[0]) * float(ram.v0(0)) ** 2
+    held = e["kinetic"] + e["strain"] + e["contact"] + e["soil"] + e["numerical"]
+    assert abs(held - brought) <= 1e-9 * brought and e["numerical"] <= 1e-3 * brought

@@ -11,7 +11,9 @@ import numpy as np
 import pytest
 
 from conftest import VSTPETSC, bar, cli, make_case, write_case
+import vstpetsc.model
 from vstpetsc import Result, bundled
+from vstpetsc.petsc.law_solver import MANY
 
 pytestmark = pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
@@ -82,7 +84,10 @@ def test_bundled_example_two_ranks_equal_one(tmp_path, name):
     p2 = mpirun("run", case, "-o", tmp_path / "two.h5", "--quiet", "--every", "4")
     assert p2.returncode == 0, p2.stderr
     assert p2.stdout.count("completed") == 1             # the summary prints once
-    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
+    # many nonlinear laws (Smith soil on every pile node): numpy's BLAS in
+    # their Newton sums in an order that may differ between processes
+    many = len(vstpetsc.model.build_model(vstpetsc.Case.from_toml(case)).nonlinear) > MANY
+    assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5", rtol=1e-11, exact=not many)
 
 
 def two_bars(tmp_path):

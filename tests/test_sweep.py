@@ -86,3 +86,18 @@ def test_setting_values_read_as_toml(text, value):
     from vstpetsc.sweep import parse_setting
     assert parse_setting(f"contact.0.x={text}") == ("contact.0.x", [value])
     assert np.isscalar(parse_setting(f"k={text},{text}")[1][1])
+
+
+def test_capacity_sweep_draws_a_bearing_graph(tmp_path):
+    """A capacity sweep of a blow: the blow count grows with the capacity,
+    and `plot` draws the bearing graph from summary.csv."""
+    from test_soil import blow
+    case = write_case(tmp_path, blow(n=10, dt=1.6e-4))
+    out = tmp_path / "bearing"
+    p = cli("sweep", case, "--set", "soil.0.capacity=0.5e6,1e6,2e6", "-o", out, "--quiet")
+    assert p.returncode == 0, p.stderr
+    header, data = read_summary(str(out / "summary.csv"))
+    assert {"set_0", "blow_count_0", "transferred_energy", "stress_min_pile"} <= set(header)
+    assert np.all(np.diff(data["blow_count_0"]) > 0)
+    p = cli("plot", out / "summary.csv", "-o", tmp_path / "bearing.png")
+    assert p.returncode == 0 and (tmp_path / "bearing.png").stat().st_size > 10000, p.stderr

@@ -124,6 +124,8 @@ def plot_sweep(path, out, x=None, y=None):
     header, data = read_summary(path)
     if "wall_time" not in header:
         raise InputError(f"{path}: not a sweep summary (no wall_time column)")
+    if x is None and y is None and "blow_count_0" in header and "capacity" in header[0]:
+        return bearing_graph(header, data, out)
     after = header[header.index("wall_time") + 1:]
     x = x or header[0]
     y = y or next((c for c in after if c != "message"), None)
@@ -139,6 +141,36 @@ def plot_sweep(path, out, x=None, y=None):
     ax.set_ylabel(y)
     ax.set_title(f"{len(keep)} of {len(data['status'])} runs completed")
     ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def bearing_graph(header, data, out):
+    """The bearing graph of a capacity sweep: capacity, and the largest
+    compressive and tensile stresses, against the blow count."""
+    import matplotlib.pyplot as plt
+
+    keep = [i for i, s in enumerate(data["status"]) if s == "completed"]
+    pick = lambda c: np.array([data[c][i] for i in keep], dtype=float)
+    blows = pick("blow_count_0")
+    order = np.argsort(blows)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    ax1.plot(blows[order], pick(header[0])[order], "o-")
+    ax1.set_xlabel("blow count (blows per length unit)")
+    ax1.set_ylabel(header[0])
+    for c in header:
+        if c.startswith(("stress_min_", "stress_max_")):
+            kind = "compression" if c.startswith("stress_min_") else "tension"
+            ax2.plot(blows[order], np.abs(pick(c))[order], "o-",
+                     label=f"{kind}, {c.split('_', 2)[2]}")
+    ax2.set_xlabel("blow count (blows per length unit)")
+    ax2.set_ylabel("largest stress (magnitude)")
+    ax2.legend(fontsize=8)
+    for ax in (ax1, ax2):
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(f"bearing graph ({len(keep)} of {len(data['status'])} runs completed)")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
