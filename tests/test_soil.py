@@ -169,3 +169,17 @@ def test_set_converges_as_dt_and_h_are_refined(tmp_path):
     order = np.log2(d[-2] / d[-1])
     print(f"sets {sets}; differences {d}; observed order {order:.2f}")
     assert d[-1] <= 1e-3 * sets[-1] and d[-1] < d[0] / 4 and order > 1.5
+
+
+def test_static_start_settles_the_pile_on_its_soil(tmp_path):
+    """[gravity] initial = "static" on a pile in soil (no ram): the soil
+    carries the weight (shaft plus toe) and nothing moves."""
+    doc = blow(end=0.004).to_dict()
+    doc["body"], doc["gravity"] = doc["body"][1:], {"g": 9.81, "initial": "static"}
+    del doc["contact"]
+    r = vstpetsc.run(vstpetsc.Case.from_dict(doc), output=str(tmp_path / "r.h5"), quiet=True,
+                     out=io.StringIO())
+    s = r.series("soil/0")
+    weight = 7850.0 * 0.01 * 10.0 * 9.81
+    assert s["shaft_force"][-1] + s["toe_force"][-1] == pytest.approx(weight, rel=1e-9)
+    assert np.abs(r.body("pile").v).max() <= 1e-12 and r.group_attrs("soil/0")["set"] == 0.0
