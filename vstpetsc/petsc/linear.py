@@ -23,11 +23,14 @@ class LinearSolver:
 
     Defaults, which the options database overrides: ``preonly`` with PETSc's
     LU in natural ordering on one rank (the block band is already optimal);
-    on several ranks ``redundant``, PETSc's LU of the whole matrix on every
-    rank (measured in bench/parallel.md).
+    on several ranks one application of additive Schwarz (``asm``), each
+    rank's LU of its part of the band grown by ``overlap`` nodes on either
+    side: a slab couples nodes so weakly across a few dozen elements that
+    one application gives the solution to rounding (docs/parallel.md gives
+    the measured errors and speed).
     """
 
-    def __init__(self, A, comm):
+    def __init__(self, A, comm, overlap=32):
         ksp = PETSc.KSP().create(comm=comm)
         ksp.setOptionsPrefix(PREFIX)
         ksp.setOperators(A, A)
@@ -35,8 +38,12 @@ class LinearSolver:
         ksp.setTolerances(rtol=1e-12, atol=1e-50, max_it=1000)
         pc = ksp.getPC()
         if comm.getSize() > 1:
-            pc.setType("redundant")
-            for key, val in (("redundant_pc_type", "lu"),
+            pc.setType("asm")
+            for key, val in (("pc_asm_overlap", str(overlap)), ("sub_pc_type", "lu"),
+                             ("sub_pc_factor_mat_solver_type", "petsc"),
+                             ("sub_pc_factor_mat_ordering_type", "natural"),
+                             # the redundant LU, still one option away
+                             ("redundant_pc_type", "lu"),
                              ("redundant_pc_factor_mat_solver_type", "petsc"),
                              ("redundant_pc_factor_mat_ordering_type", "natural")):
                 default(PREFIX + key, val)
@@ -85,4 +92,8 @@ class LinearSolver:
         elif what == "redundant":
             inner = PETSc.Options().getString(PREFIX + "redundant_pc_type", "lu")
             what = f"redundant ({inner} of the whole matrix on every rank)"
+        elif what == "asm":
+            overlap = PETSc.Options().getInt(PREFIX + "pc_asm_overlap", 1)
+            inner = PETSc.Options().getString(PREFIX + "sub_pc_type", "ilu")
+            what = f"asm (overlap {overlap} nodes, {inner} of each rank's part)"
         return f"KSP {self.ksp.getType()}, PC {what}"

@@ -13,6 +13,8 @@ vanish); otherwise Newton (:mod:`vstpetsc.petsc.newton`) starts from it.
 The slab's energy terms (docs/loads.md section 4) are summed as it closes.
 """
 
+import math
+
 import numpy as np
 
 from vstpetsc import slab
@@ -26,6 +28,16 @@ from vstpetsc.petsc.matrices import Increment, block_matrix
 from vstpetsc.petsc.reactions import Reactions
 from vstpetsc.petsc.space import DofGather, Space
 from vstpetsc.petsc.work import DampingWork
+
+
+def schwarz_overlap(mesh, dt):
+    """Nodes of overlap for the parallel solve: 32 per unit of the largest
+    Courant number c dt / h, at least 32 (a slab's coupling decays by about
+    0.3 per element at c dt/h <= 1, 0.6 at 4: docs/parallel.md)."""
+    if mesh.h.size == 0:
+        return 32
+    courant = float(np.max(np.sqrt(mesh.E / mesh.rho) * dt / mesh.h))
+    return 32 * max(1, math.ceil(courant))
 
 
 class SlabSolver:
@@ -67,7 +79,7 @@ class SlabSolver:
         self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
         self._loads = None              # (local dofs, -W T f, f) of the open slab
         self._row_cache = {}
-        self.linear = LinearSolver(self.A, comm)
+        self.linear = LinearSolver(self.A, comm, schwarz_overlap(model.mesh, dt))
         self.fields = FieldTerms(self.space, loads, self.W, self.V, dt)
         self.reactions = None if loads.all_fixed else \
             Reactions(self.space, ops, dt, self.W, self.V, loads.fixed_nodes)
