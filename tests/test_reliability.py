@@ -241,3 +241,18 @@ def test_fuzzed_cases_give_exit_0_or_2_with_messages(tmp_path_factory, edits, dr
     if rc == 2:
         msgs = err.getvalue().strip().splitlines()
         assert msgs and all(m.startswith("vstpetsc: error: ") and ": " in m[17:] for m in msgs)
+
+
+def test_restart_of_a_file_from_another_version_is_refused(tmp_path):
+    """A file without a dataset this version writes (here energy/transferred,
+    new in 0.2) cannot be continued: one line, exit 2, the file untouched."""
+    import h5py
+    case = write_case(tmp_path, faults.long_case(end=0.1), "short")
+    out = tmp_path / "old.h5"
+    assert cli("run", case, "-o", out, "--quiet").returncode == 0
+    with h5py.File(out, "a") as f:
+        del f["energy/transferred"]
+    before = out.read_bytes()
+    p = cli("run", case, "--restart", out, "--quiet")
+    assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
+    assert "has no energy/transferred" in p.stderr and out.read_bytes() == before

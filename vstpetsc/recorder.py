@@ -167,6 +167,10 @@ def load_restart(path, case, model, energy):
         if "solver/slab" not in f or "case" not in f.attrs:
             raise InputError(f"--restart: {path} has no restart data (not a vstpetsc result)")
         _check_continues(f, path, case)
+        missing = [name for name, _ in layout.series(model) if name not in f]
+        if missing:
+            raise InputError(f"--restart: {path} has no {missing[0]} (written by another "
+                             "vstpetsc version); run the case again")
         k0, u, v, values, first, last = layout.last_state(f, model)
         if k0 >= case.nslabs:
             raise InputError(f"--restart: {path} already reaches slab {k0} (t = "
