@@ -240,3 +240,21 @@ def test_cushion_pair_across_two_ranks(tmp_path):
     assert p.returncode == 0, p.stderr
     assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5")
     assert Result(tmp_path / "two.h5").contact(0).compression_max.max() > 0
+
+
+def test_sweep_with_two_ranks_per_run(tmp_path):
+    """--ranks-per-run 2: each run on both ranks (mpi_size 2 in its file),
+    the summary the one-rank summary to the two-rank bound."""
+    case = two_bars(tmp_path)
+    sets = ["--set", "body.striker.v0=0.5,2"]
+    assert cli("sweep", case, *sets, "-o", tmp_path / "one", "--quiet").returncode == 0
+    p = mpirun("sweep", case, *sets, "-o", tmp_path / "two", "--quiet", "--ranks-per-run", "2")
+    assert p.returncode == 0 and p.stdout.count("sweep:") == 1, p.stderr
+    from vstpetsc.sweep import read_summary
+    (header, one), (_, two) = (read_summary(str(tmp_path / d / "summary.csv"))
+                               for d in ("one", "two"))
+    for key in header:
+        if key not in ("wall_time", "file", "status", "message"):
+            assert np.allclose(one[key], two[key], rtol=1e-10, atol=0), key
+    assert two["status"] == ["completed"] * 2
+    assert all(Result(tmp_path / "two" / f).attrs["mpi_size"] == 2 for f in two["file"])

@@ -73,7 +73,8 @@ def test_sweep_plot_and_bad_arguments(tmp_path):
             (["--set", "body.bar.v0"], "give KEY=V1,V2"),
             (["--set", "nonsense=1,2"], "a path is table.key"),
             (["--set", "body.bar.v0=1,", ], "an empty value"),
-            ([], "at least one --set")):
+            ([], "at least one --set"),
+            (["--set", "body.bar.v0=1", "--ranks-per-run", "2"], "a whole divisor of the 1")):
         p = cli("sweep", case, *args, "-o", out)
         assert p.returncode == 2 and p.stderr.count("\n") == 1 and words in p.stderr, p.stderr
     p = cli("plot", out / "summary.csv", "--y", "nope")

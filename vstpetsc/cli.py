@@ -15,7 +15,7 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
        vstpetsc info RESULT.h5                   one-screen summary of a result
        vstpetsc plot RESULT.h5 [-o FIGURE.png]   velocity map, contact force, energy
        vstpetsc sweep CASE.toml --set KEY=V1,V2,... [--set ...] [-o DIR] [--quiet]
-                    [PETSc options ...]          a run per combination, DIR/summary.csv
+                    [--ranks-per-run K] [PETSc options ...]   a run per combination, DIR/summary.csv
        vstpetsc plot DIR/summary.csv [--x KEY] [--y QUANTITY] [-o FIGURE.png]
        vstpetsc export RESULT.h5 [--csv DIR] [--xdmf]
                                                  time series as CSV files in DIR; RESULT.xdmf
@@ -26,7 +26,7 @@ EXIT_BAD_INPUT = 2
 MAX_LINES = 50          # problems printed at most
 EXIT_SOLVE_FAILED = 3
 # our options that take a value; every other single-dash option is PETSc's
-VALUED = ("-o", "--output", "--every", "--restart", "--set", "--x", "--y")
+VALUED = ("-o", "--output", "--every", "--restart", "--set", "--x", "--y", "--ranks-per-run")
 FLAGS = ("--quiet", "--dry-run")
 
 
@@ -322,14 +322,18 @@ def _sweep(rest):
             settings[key] = values
         else:
             others.append(tok)
-    opts = parse_options(others, ["case"], flags=("--quiet",))
+    opts = parse_options(others, ["case"], flags=("--quiet",),
+                         valued=("-o", "--output", "--ranks-per-run"))
     if opts["case"] is None or not settings:
         raise UsageError("sweep: give CASE.toml and at least one --set KEY=V1,V2,...")
     case = vstpetsc.Case.from_toml(opts["case"])
     folder = opts["output"] or os.path.splitext(opts["case"])[0] + "-sweep"
     if any(not c.isprintable() for c in folder):
         raise UsageError("-o: the path contains a control character")
-    rows = vstpetsc.sweep(case, settings, folder, options=petsc_args)
+    per = opts["ranks-per-run"] or "1"
+    if not per.isdigit():
+        raise UsageError(f"--ranks-per-run: a positive whole number, got {per!r}")
+    rows = vstpetsc.sweep(case, settings, folder, options=petsc_args, ranks_per_run=int(per))
     failed = [r for r in rows if r["status"] != "completed"]
     if _rank() == 0 and not opts["--quiet"]:
         for r in rows:

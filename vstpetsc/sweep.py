@@ -108,7 +108,7 @@ def run_one(case, values, path, options, comm):
     return {"file": name, "status": result.status, "wall_time": wall, **quantities(result)}
 
 
-def sweep(case, settings, folder, options=(), comm=None):
+def sweep(case, settings, folder, options=(), comm=None, ranks_per_run=1):
     """Run ``case`` for every combination of ``settings`` into ``folder``.
 
     Parameters
@@ -122,8 +122,10 @@ def sweep(case, settings, folder, options=(), comm=None):
     options : sequence of str
         PETSc options for every run.
     comm : PETSc or mpi4py communicator, optional
-        The ranks to share the runs over (default every rank); each run is
-        on one rank.
+        The ranks to share the runs over (default every rank).
+    ranks_per_run : int
+        Ranks that run one case together (a big case); the ranks form
+        groups of this many, and the groups share out the runs.
 
     Returns
     -------
@@ -139,22 +141,34 @@ def sweep(case, settings, folder, options=(), comm=None):
         case.check_path(key)
     petsc.initialize([])
     comm = petsc.communicator(comm).tompi4py()
-    rank, size = comm.Get_rank(), comm.Get_size()
-    if rank == 0:
+    group, groups = _groups(comm, ranks_per_run)
+    if comm.Get_rank() == 0:
         os.makedirs(folder, exist_ok=True)
     comm.Barrier()
     width = len(str(len(combos) - 1))
     mine = {}
-    from petsc4py import PETSc
-    for i in range(rank, len(combos), size):
+    for i in range(comm.Get_rank() // ranks_per_run, len(combos), groups):
         path = os.path.join(folder, f"run-{i:0{width}d}.h5")
-        mine[i] = {**combos[i], **run_one(case, combos[i], path, options, PETSc.COMM_SELF)}
+        row = {**combos[i], **run_one(case, combos[i], path, options, group)}
+        if group.Get_rank() == 0:
+            mine[i] = row
     parts = comm.allgather(mine)
     rows = [next(p[i] for p in parts if i in p) for i in range(len(combos))]
-    if rank == 0:
+    if comm.Get_rank() == 0:
         write_summary(os.path.join(folder, "summary.csv"), rows, list(settings))
     comm.Barrier()
+    group.Free()
     return rows
+
+
+def _groups(comm, ranks_per_run):
+    """(this rank's group communicator, number of groups) of ``comm`` cut
+    into groups of ``ranks_per_run`` consecutive ranks."""
+    size = comm.Get_size()
+    if not isinstance(ranks_per_run, int) or ranks_per_run < 1 or size % ranks_per_run:
+        raise InputError(f"--ranks-per-run: a whole divisor of the {size} ranks, got "
+                         f"{ranks_per_run!r}")
+    return comm.Split(comm.Get_rank() // ranks_per_run, comm.Get_rank()), size // ranks_per_run
 
 
 def columns(rows, keys):
