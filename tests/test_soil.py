@@ -183,3 +183,28 @@ def test_static_start_settles_the_pile_on_its_soil(tmp_path):
     weight = 7850.0 * 0.01 * 10.0 * 9.81
     assert s["shaft_force"][-1] + s["toe_force"][-1] == pytest.approx(weight, rel=1e-9)
     assert np.abs(r.body("pile").v).max() <= 1e-12 and r.group_attrs("soil/0")["set"] == 0.0
+
+
+def test_batch_evaluation_equals_one_by_one(rng):
+    """SoilNode.force_batch (smooth slabs in numpy, the rest one by one)
+    gives each node's force() to rounding, and leaves the same state."""
+    from vstpetsc.laws.soil import SoilNode
+
+    laws = []
+    for i in range(60):
+        toe, Ru = bool(i % 3 == 0), rng.uniform(0.05, 0.3)
+        law = SoilNode(i, 1.0, Ru, Ru / 2.0, float(rng.choice([0.0, 0.7])), toe, 0.1)
+        law.wn = rng.uniform(-0.2, 0.2)
+        law.p = law.wn - rng.uniform(-Ru / 2.0 if not toe else -0.05, Ru / 2.0)
+        laws.append(law)
+    y1, y2 = rng.uniform(-0.3, 0.3, 60), rng.uniform(-0.3, 0.3, 60)
+    got = SoilNode.force_batch(laws, y1, y2)
+    lasts = [law.last for law in laws]
+    for i, law in enumerate(laws):
+        want = law.force(float(y1[i]), float(y2[i]))
+        if want is None:
+            assert got[i] is None
+            continue
+        scale = max(map(abs, want))
+        assert max(abs(a - b) for a, b in zip(got[i], want)) <= 1e-13 * scale
+        assert lasts[i][0][6] == law.last[0][6]                        # the slip

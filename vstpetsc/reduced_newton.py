@@ -158,9 +158,29 @@ class ManyLawNewton(ReducedNewton):
     def __init__(self, lawset, S, **kw):
         super().__init__(lawset, S, **kw)
         self.S_np = np.array(S, dtype=float)
+        # laws that evaluate many at once (force_batch), grouped by kind
+        kinds = {}
+        for j, law in enumerate(self.laws):
+            if hasattr(type(law), "force_batch"):
+                kinds.setdefault(type(law), []).append(j)
+        self.batches = [(cls.force_batch, np.array(js), [self.laws[j] for j in js])
+                        for cls, js in kinds.items()]
+        batched = {j for _, js, _ in self.batches for j in js}
+        self.single = [j for j in range(len(self.laws)) if j not in batched]
+
+    def _outputs(self, y):
+        """Every law's force() at y, the batched kinds at once."""
+        outs = [None] * len(self.laws)
+        for j in self.single:
+            outs[j] = self.laws[j].force(y[2 * j], y[2 * j + 1])
+        ya = np.asarray(y, dtype=float)
+        for force, js, laws in self.batches:
+            for j, out in zip(js, force(laws, ya[2 * js], ya[2 * js + 1])):
+                outs[j] = out
+        return outs
 
     def _residual(self, y, y0):
-        outs = [law.force(y[2 * j], y[2 * j + 1]) for j, law in enumerate(self.laws)]
+        outs = self._outputs(y)
         f = np.zeros(self.n)
         for j, out in enumerate(outs):
             if out is not None:

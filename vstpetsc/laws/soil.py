@@ -122,6 +122,25 @@ class SoilNode(Law):
         self.last = None if out is None else (out, y1, y2)
         return None if out is None else out[:6]
 
+    @staticmethod
+    def force_batch(laws, y1, y2):
+        """``[law.force(y1[i], y2[i])]`` for many soil nodes at once: the
+        nodes whose slab is one smooth piece (no turn, no yield, no sign
+        change of R_s, the toe's damping factor positive) in numpy, the
+        others one by one (docs/pile-driving.md)."""
+        y1, y2 = np.asarray(y1, dtype=float), np.asarray(y2, dtype=float)
+        par = _batch_params(laws)
+        simple, out = _smooth_slabs(par, y1, y2)
+        results = [None] * len(laws)
+        for i, law in enumerate(laws):
+            if simple[i]:
+                row = out[i]
+                law.last = ((*row, law.p), float(y1[i]), float(y2[i]))
+                results[i] = row
+            else:
+                results[i] = law.force(float(y1[i]), float(y2[i]))
+        return results
+
     def static(self, u):
         """(residual, tangent) of the static resistance at displacement u
         (elastic about the slip, clipped at the capacity; the slip itself
@@ -213,3 +232,47 @@ def mark_head(laws, spec, mesh):
     for law in laws:
         if law.group and law.group.startswith("contact/") and head in law.nodes:
             law.transfer_node = int(np.flatnonzero(law.nodes == head)[0])
+
+
+_GAUSS = np.array([(0.5 - 0.5 * np.sqrt(0.6), 5.0 / 18.0), (0.5, 8.0 / 18.0),
+                   (0.5 + 0.5 * np.sqrt(0.6), 5.0 / 18.0)])
+
+
+def _batch_params(laws):
+    """(wn, p, k, q, J, toe, dt) of the laws as arrays."""
+    return (np.array([law.wn for law in laws]), np.array([law.p for law in laws]),
+            np.array([law.k for law in laws]), np.array([law.Ru / law.k for law in laws]),
+            np.array([law.J for law in laws]), np.array([law.toe for law in laws]),
+            laws[0].dt)
+
+
+def _smooth_slabs(par, y1, y2):
+    """(mask of the nodes whose slab is one smooth elastic piece, their
+    (f1, f2, J11, J12, J21, J22) as rows): the scalar kernel's Gauss rule
+    on [0, 1], over all nodes at once."""
+    wn, p, k, q, J, toe, dt = par
+    b1, b2 = dt * y1, 0.5 * dt * (y2 - y1)
+    e0, e1 = wn - p, wn - p + b1 + b2                    # w - p at the slab's ends
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vertex = np.where(b2 != 0.0, -b1 / (2.0 * b2), -1.0)
+    sign = np.where(e0 > 0.0, 1.0, -1.0)
+    factor0, factor1 = 1.0 + J * y1, 1.0 + J * y2
+    simple = (~((vertex > 0.0) & (vertex < 1.0)) & (e0 * e1 > 0.0)
+              & (np.abs(e0) < q * (1.0 - 1e-12)) & (np.abs(e1) < q * (1.0 - 1e-12))
+              & (~toe | ((e0 > 0.0) & (factor0 > 0.0) & (factor1 > 0.0))))
+    sign = np.where(toe, 1.0, sign)
+    t, weight = _GAUSS[:, 0], _GAUSS[:, 1]
+    e = e0[:, None] + t * (b1[:, None] + t * b2[:, None])            # (n, 3)
+    v = y1[:, None] + (y2 - y1)[:, None] * t
+    fac = 1.0 + (J * sign)[:, None] * v
+    R = k[:, None] * e * fac
+    half = 0.5 * t * t
+    dR = [k[:, None] * dt * I * fac + (k * J * sign)[:, None] * e * T
+          for I, T in (((t - half), 1.0 - t), (half, t))]
+    w = dt * weight
+    out = np.empty((y1.size, 6))
+    for a, T in enumerate((1.0 - t, t)):
+        out[:, a] = (R * T) @ w
+        out[:, 2 + 2 * a] = (dR[0] * T) @ w
+        out[:, 3 + 2 * a] = (dR[1] * T) @ w
+    return simple, out.tolist()
