@@ -112,10 +112,21 @@ def _drop(f, result):
             f"192.8 ms)")
 
 
+def _pile(f, result):
+    s = result.summary()
+    soil = s["soils"][0]
+    pile = [b for b in s["bodies"] if b["name"] == "pile"][0]
+    return (f"set {1e3 * soil['set']:.3f} mm, blow count {soil['blow_count']:.1f} per m "
+            f"({0.25 * soil['blow_count']:.1f} per 0.25 m); largest compression "
+            f"{-1e-6 * pile['compression'][0]:.1f} MPa, tension {1e-6 * pile['tension'][0]:.1f} "
+            f"MPa; energy into the pile {1e-3 * s['energy']['transferred']:.2f} kJ of the "
+            f"ram's 29.44 kJ (docs/pile-driving.md: the bearing graph, the Smith peer)")
+
+
 KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "periodic-impacts": _periodic, "layered": _layered, "wave": _wave,
-       "site-response": _site, "uplift": _uplift, "drop": _drop}
-NEEDS_RESULT = {"site-response", "uplift", "drop"}
+       "site-response": _site, "uplift": _uplift, "drop": _drop, "pile": _pile}
+NEEDS_RESULT = {"site-response", "uplift", "drop", "pile"}
 
 
 def main():
