@@ -258,3 +258,19 @@ def test_sweep_with_two_ranks_per_run(tmp_path):
             assert np.allclose(one[key], two[key], rtol=1e-10, atol=0), key
     assert two["status"] == ["completed"] * 2
     assert all(Result(tmp_path / "two" / f).attrs["mpi_size"] == 2 for f in two["file"])
+
+
+def test_sweep_on_two_ranks_records_failures_and_skips_completed_runs(tmp_path):
+    case = two_bars(tmp_path)
+    sets = ["--set", "body.striker.elements=20,0,30,40"]
+    out = tmp_path / "s"
+    p = mpirun("sweep", case, *sets, "-o", out, "--quiet")
+    assert p.returncode == 3 and "1 failed" in p.stdout, p.stderr
+    from vstpetsc.sweep import read_summary
+    _, rows = read_summary(str(out / "summary.csv"))
+    assert rows["status"] == ["completed", "failed", "completed", "completed"]
+    assert "elements" in rows["message"][1]
+    done = {f: os.stat(out / f).st_mtime_ns for f in ("run-0.h5", "run-2.h5", "run-3.h5")}
+    p = mpirun("sweep", case, *sets, "-o", out, "--quiet")
+    assert p.returncode == 3
+    assert done == {f: os.stat(out / f).st_mtime_ns for f in done}
