@@ -208,3 +208,22 @@ def test_batch_evaluation_equals_one_by_one(rng):
         scale = max(map(abs, want))
         assert max(abs(a - b) for a, b in zip(got[i], want)) <= 1e-13 * scale
         assert lasts[i][0][6] == law.last[0][6]                        # the slip
+
+
+def test_zero_capacity_and_a_part_without_capacity(tmp_path):
+    """capacity 0 (a capacity sweep may start there): no soil nodes, set 0,
+    blow count inf; a part that carries nothing needs no quake (here the
+    toe table only says which end goes into the ground)."""
+    doc = blow(end=0.004).to_dict()
+    doc["soil"][0]["capacity"] = 0.0
+    r = vstpetsc.run(vstpetsc.Case.from_dict(doc), output=str(tmp_path / "zero.h5"),
+                     quiet=True, out=io.StringIO())
+    assert r.group_attrs("soil/0")["set"] == 0.0
+    assert r.group_attrs("soil/0")["blow_count"] == np.inf
+    assert not r.series("soil/0")["shaft_force"].any()
+    doc = blow(end=0.004).to_dict()
+    doc["soil"][0].update(toe_share=0.0, toe={"end": "right"})
+    r = vstpetsc.run(vstpetsc.Case.from_dict(doc), output=str(tmp_path / "shaft.h5"),
+                     quiet=True, out=io.StringIO())
+    assert r.series("soil/0")["shaft_force"].max() > 0
+    assert not r.series("soil/0")["toe_force"].any()

@@ -78,7 +78,9 @@ def _part(chk, tbl, key, where, keys, needed):
     if not isinstance(tbl.get(key), dict):
         return None                     # reported
     chk.unknown(sub, keys, f"{where}.{key}")
-    return {"quake": chk.number(sub, "quake", f"{where}.{key}", positive=True),
+    # a part that carries no capacity may give only its range or its end
+    return {"quake": chk.number(sub, "quake", f"{where}.{key}", positive=True,
+                                required=needed, default=1.0),
             "damping": chk.number(sub, "damping", f"{where}.{key}", required=False,
                                   default=0.0, minimum=0.0)}
 
@@ -170,6 +172,8 @@ class SoilReport(Law):
         self.index, self.group = index, f"soil/{index}"
         self.shaft, self.toe, self.dt = shaft, toe, dt
         self.nodes_all = shaft + ([toe] if toe else [])
+        if not self.nodes_all:          # capacity 0: no soil nodes, no slips to keep
+            self.series = tuple(k for k in SoilReport.series if k != "slip")
         # one running sum, added to node by node in a fixed order, so that
         # a restart continues it bit for bit
         self.tally = [0.0]
@@ -187,7 +191,7 @@ class SoilReport(Law):
                 "slip": np.array([n.p for n in self.nodes_all])}
 
     def restore(self, values):
-        for n, p in zip(self.nodes_all, np.atleast_1d(values["slip"])):
+        for n, p in zip(self.nodes_all, np.atleast_1d(values.get("slip", []))):
             n.p = float(p)
         self.tally[0] = float(values["energy"])
 

@@ -8,7 +8,8 @@ bit):
   ``.strain`` of every gauge, a row per slab;
 - ``contact-<k>.csv`` (and one per other law group that reports, its path
   with ``-`` for ``/``), ``energy.csv``, ``solver.csv``: ``time`` and the
-  group's series, a row per kept slab;
+  group's one-value series, a row per kept slab (a series with a value per
+  node, such as ``/soil/<k>/slip``, stays in the HDF5 file);
 - ``envelope-<body>.csv``: ``x_left``, ``x_right``, ``stress_min``,
   ``stress_max`` of every element.
 
@@ -106,7 +107,7 @@ def _body_grids(result, body, h5):
     lines = [f'<Grid Name={quoteattr(body)} GridType="Collection" CollectionType="Temporal">']
     for i, t in enumerate(times):
         lines.append(f'<Grid Name={quoteattr(f"{body}-{i}")} GridType="Uniform">'
-                     + (mesh if i == 0 else shared) + f'<Time Value="{t!r}"/>')
+                     + (mesh if i == 0 else shared) + f'<Time Value="{float(t)!r}"/>')
         for key, center, width in (("u", "Node", nn), ("v", "Node", nn), ("stress", "Cell", ne)):
             lines.append(f'<Attribute Name="{key}" AttributeType="Scalar" Center="{center}">'
                          + _slab(h5, layout.body_path(body, key), i, times.size, width)
