@@ -23,8 +23,6 @@ with 3-point Gauss (cubic integrands: exact).  The tangent includes M's
 dependence on the slab's velocities when M is reached inside the slab.
 """
 
-import numpy as np
-
 from vstpetsc.laws.gap import GAUSS, closed_somewhere, gap_coefficients, roots01
 from vstpetsc.laws.pair import PairLaw
 
@@ -161,16 +159,8 @@ class Cushion(PairLaw):
 
     @property
     def static_stiffness(self):
+        """The loading branch's stiffness (the static state, PairLaw.static)."""
         return self.k
-
-    def static(self, u):
-        """The loading branch as a spring (the static initial state)."""
-        g = self.g0 - self.signs @ u
-        res = -self.signs * self.k * min(0.0, g)
-        return res, np.outer(self.signs, self.signs) * self.k * (g <= 0.0)
-
-    def stored_energy(self, u):
-        return 0.5 * self.k * min(0.0, self.gap(u)) ** 2
 
     def values(self, u):
         return {**super().values(u), "compression_max": self.M}

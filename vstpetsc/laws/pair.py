@@ -68,6 +68,20 @@ class PairLaw(Law):
         """Gap for the displacements ``u`` of all nodes."""
         return self.g0 - sum(s * u[n] for n, s in zip(self.nodes, self.signs))
 
+    def static(self, u):
+        """(residual (n,), tangent (n, n)) of the pair as a spring of the
+        formulation's ``static_stiffness``, for the displacements u of its
+        nodes; a closed gap (g <= 0) is active."""
+        g = self.g0 - self.signs @ u
+        k = self.static_stiffness
+        res = -self.signs * k * min(0.0, g)
+        tangent = np.outer(self.signs, self.signs) * k * (g <= 0.0)
+        return res, tangent
+
+    def stored_energy(self, u):
+        """1/2 k min(0, g)^2 for the displacements u of all nodes."""
+        return 0.5 * self.static_stiffness * min(0.0, self.gap(u)) ** 2
+
     def values(self, u):
         return {"gap": self.gap(u), "impulse": self.impulse,
                 "force": self.impulse / self.dt, **self.totals}

@@ -7,8 +7,6 @@ active part {g < 0} (:mod:`vstpetsc.laws.gap`); ``phi_a`` is I_a for "seed"
 (w = eps) and T_a for "power" (w = k).
 """
 
-import numpy as np
-
 from vstpetsc.laws.gap import closed_on_slab, pair_integrals
 from vstpetsc.laws.pair import PairLaw
 
@@ -71,19 +69,6 @@ class PenaltyContact(PairLaw):
         """The slab-mean force per unit penetration: k ("power"), or
         eps dt / 2 ("seed", formulation.md section 4)."""
         return self.penalty if self.formulation == "power" else 0.5 * self.penalty * self.dt
-
-    def static(self, u):
-        """(residual (n,), tangent (n, n)) of the pair as a spring, for the
-        displacements u of its nodes; a closed gap (g <= 0) is active."""
-        g = self.g0 - self.signs @ u
-        k = self.static_stiffness
-        res = -self.signs * k * min(0.0, g)
-        tangent = np.outer(self.signs, self.signs) * k * (g <= 0.0)
-        return res, tangent
-
-    def stored_energy(self, u):
-        """1/2 k min(0, g)^2 for the displacements u of all nodes."""
-        return 0.5 * self.static_stiffness * min(0.0, self.gap(u)) ** 2
 
     def finish_slab(self, t0, dt):
         """Record the converged slab (the last force() was at its solution)."""
