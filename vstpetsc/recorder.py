@@ -102,8 +102,8 @@ class Recorder:
         full = False
         if self.rank0:
             self.gauges.fill(*uv, self.gauge_values)
-            np.take(self.gauge_values, self.gauge_order, out=self.writer.gauge_slot())
-            full = self.writer.gauges_full()
+            np.take(self.gauge_values, self.gauge_order, out=self.writer.gauges.slot())
+            full = self.writer.gauges.full()
         if self.space.max_over_ranks(int(full)):
             self.flush(None)
 

@@ -77,11 +77,7 @@ class GaugeStream:
     def write(self):
         k, n = self.pending, self.n
         for j, dsid in enumerate(self.ids if k else ()):
-            dsid.set_extent((n + k,))
-            fspace = dsid.get_space()
-            fspace.select_hyperslab((n,), (k,))
-            dsid.write(h5py.h5s.create_simple((k,)), fspace,
-                       np.ascontiguousarray(self.buffer[:k, j]))
+            _append(dsid, n, self.buffer[:k, j])
         self.n, self.pending = n + k, 0
 
     def truncate(self, rows):
@@ -160,7 +156,7 @@ class ResultWriter:
             self = cls(f, lock, interval, fd)
             self.append(first_row)
             if self.gauges:
-                self.gauges.slot()[:] = [first_row[n] for n in _gauge_names(f)]
+                self.gauges.slot()[:] = [first_row[n] for n in self.gauges.names]
             self.flush(snapshots, 0)
             lock.publish(fd)
         except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
@@ -227,14 +223,6 @@ class ResultWriter:
         self.pending = i + 1
         return self.buffers, i
 
-    def gauge_slot(self):
-        """The next gauge row to fill (after the row, the caller asks
-        :meth:`gauges_full`)."""
-        return self.gauges.slot()
-
-    def gauges_full(self):
-        return self.gauges.full()
-
     def due(self):
         """Whether a block is due: the buffer is full or the wall-time
         interval since the last block has passed (the caller then flushes,
@@ -281,12 +269,8 @@ class ResultWriter:
         k, n = self.pending, self.n
         if k == 0:
             return
-        for name, (dsid, tail, _) in self.series.items():
-            dsid.set_extent((n + k,) + tail)
-            fspace = dsid.get_space()
-            fspace.select_hyperslab((n,) + (0,) * len(tail), (k,) + tail)
-            data = np.ascontiguousarray(self.buffers[name][:k])
-            dsid.write(h5py.h5s.create_simple(data.shape), fspace, data)
+        for name, (dsid, _, _) in self.series.items():
+            _append(dsid, n, self.buffers[name][:k])
         self.flushed_slab = int(self.buffers["solver/slab"][k - 1])
         self.n, self.pending = n + k, 0
 
@@ -317,6 +301,18 @@ class ResultWriter:
         self.lock.release()
         if error is not None:
             raise error
+
+
+def _append(dsid, n, rows):
+    """Write ``rows`` (k rows of a series) after the first n rows of the
+    dataset ``dsid``, growing it (h5py's low level: its high-level resize
+    and item assignment cost ~200 us a call)."""
+    rows = np.ascontiguousarray(rows)
+    k, tail = rows.shape[0], rows.shape[1:]
+    dsid.set_extent((n + k,) + tail)
+    fspace = dsid.get_space()
+    fspace.select_hyperslab((n,) + (0,) * len(tail), (k,) + tail)
+    dsid.write(h5py.h5s.create_simple(rows.shape), fspace, rows)
 
 
 def _gauge_names(f):
