@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vstpetsc.laws.base import Law
+from vstpetsc.laws.gap import closed_somewhere
 from vstpetsc.laws.smith import smith_integrals
 
 KEYS = ("body", "capacity", "toe_share", "shaft", "toe")
@@ -113,10 +114,8 @@ class SoilNode(Law):
     def acts(self, y1, y2):
         if not self.toe:
             return self.wn != self.p or y1 != 0.0 or y2 != 0.0
-        # the toe: w - p > 0 somewhere (w's extremes: the ends and its vertex)
-        b0, b1, b2 = self.wn - self.p, self.dt * y1, 0.5 * self.dt * (y2 - y1)
-        t = -b1 / (2.0 * b2) if b2 != 0.0 else 0.0
-        return b0 > 0.0 or b0 + b1 + b2 > 0.0 or (0.0 < t < 1.0 and b0 + t * (b1 + t * b2) > 0.0)
+        # the toe presses where w - p > 0: where the "gap" p - w is negative
+        return closed_somewhere(self.p - self.wn, -self.dt * y1, -0.5 * self.dt * (y2 - y1))
 
     def force(self, y1, y2):
         out = smith_integrals(self.wn, self.p, y1, y2, self.dt, self.k, self.Ru, self.J,
