@@ -264,17 +264,24 @@ def _info(rest):
     return 0
 
 
-def _plot(rest):
-    from vstpetsc.results.files import path_problem as output_problem
+def _figure(opts, source):
+    """The figure's path: -o, else ``source`` with .png; UsageError if it
+    cannot be written."""
+    from vstpetsc.results.files import path_problem
 
+    out = opts["output"] or os.path.splitext(source)[0] + ".png"
+    problem = path_problem(out)
+    if problem:
+        raise UsageError(f"-o: {problem}")
+    return out
+
+
+def _plot(rest):
     if any(tok.endswith(".csv") for tok in rest if not tok.startswith("-")):
         return _plot_sweep(rest)
     opts = parse_options(rest, ["result"])
     result = _result(opts, "plot")
-    out = opts["output"] or os.path.splitext(result.path)[0] + ".png"
-    problem = output_problem(out)
-    if problem:
-        raise UsageError(f"-o: {problem}")
+    out = _figure(opts, result.path)
     from vstpetsc.results.plot import plot_result
     plot_result(result, out)
     print(f"wrote {out}")
@@ -347,16 +354,12 @@ def _sweep(rest):
 
 
 def _plot_sweep(rest):
-    from vstpetsc.results.files import path_problem as output_problem
     from vstpetsc.results.plot import plot_sweep
 
     opts = parse_options(rest, ["summary"], valued=("-o", "--output", "--x", "--y"))
     path = opts["summary"]
     if not os.path.isfile(path):
         raise UsageError(f"{path}: no such file")
-    out = opts["output"] or os.path.splitext(path)[0] + ".png"
-    problem = output_problem(out)
-    if problem:
-        raise UsageError(f"-o: {problem}")
+    out = _figure(opts, path)
     print(f"wrote {plot_sweep(path, out, opts['x'], opts['y'])}")
     return 0
