@@ -101,6 +101,49 @@ def test_redundant_lu_on_two_ranks_is_bit_for_bit(tmp_path, name):
     assert_same_result(tmp_path / "one.h5", tmp_path / "two.h5", exact=True)
 
 
+def same_state(one, two):
+    """Whether two result files hold the same state, stresses, contact
+    and gauge data bit for bit."""
+    da, db = datasets(Result(one)), datasets(Result(two))
+    keys = [k for k in da if k.startswith(("body/", "contact/", "time", "gauge/"))]
+    return keys and all(np.array_equal(da[k], db[k], equal_nan=True) for k in keys)
+
+
+@pytest.mark.parametrize("layout", ["51,51", "30,72"])
+def test_default_is_petsc_asm_by_hand(tmp_path, layout):
+    """The default on several ranks (restricted Schwarz written out) is
+    PETSc's PCASM with the same overlap and sub-LU, bit for bit."""
+    case = two_bars(tmp_path)
+    for name, extra in (("own.h5", ()), ("asm.h5", ("-pc_type", "asm"))):
+        p = mpirun("run", case, "-o", tmp_path / name, "--quiet", "-vst_ownership", layout,
+                   "-pc_asm_overlap", "8", *extra)
+        assert p.returncode == 0, p.stderr
+    assert same_state(tmp_path / "own.h5", tmp_path / "asm.h5")
+    assert "restricted additive Schwarz" in Result(tmp_path / "own.h5").attrs["solver"]
+
+
+def test_overlap_across_several_ranks(tmp_path):
+    """A rank with fewer nodes than the overlap: its grown block reaches
+    over both neighbours into the ranks beyond (three ranks)."""
+    case = two_bars(tmp_path)
+    assert cli("run", case, "-o", tmp_path / "one.h5", "--quiet").returncode == 0
+    p = mpirun("run", case, "-o", tmp_path / "three.h5", "--quiet", "-vst_ownership",
+               "45,6,51", n=3)
+    assert p.returncode == 0, p.stderr
+    a, b = datasets(Result(tmp_path / "one.h5")), datasets(Result(tmp_path / "three.h5"))
+    for key in ("body/striker/v", "body/target/u", "contact/0/force"):
+        assert np.abs(a[key] - b[key]).max() <= 1e-10 * np.abs(a[key]).max(), key
+
+
+def test_negative_overlap_is_refused(tmp_path):
+    p = mpirun("run", two_bars(tmp_path), "-o", tmp_path / "r.h5", "-pc_asm_overlap", "-2",
+               timeout=60)
+    assert p.returncode == 2
+    ours = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")]
+    assert len(ours) == 1 and "-pc_asm_overlap" in ours[0], p.stderr
+    assert "Traceback" not in p.stderr
+
+
 def two_bars(tmp_path):
     """Two bars whose gap closes mid-slab, as a case file."""
     case = make_case(0.01, 2.5, [bar("striker", (0.0, 1.0), 50, E=1.0, rho=1.0, v0=1.0),

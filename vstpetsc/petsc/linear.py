@@ -6,8 +6,9 @@ import math
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc.errors import SolveFailed
+from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.petsc.options import PREFIX, default
+from vstpetsc.petsc.overlap import OverlapLU
 
 
 def reason_name(cls, code):
@@ -23,14 +24,29 @@ class LinearSolver:
 
     Defaults, which the options database overrides: ``preonly`` with PETSc's
     LU in natural ordering on one rank (the block band is already optimal);
-    on several ranks one application of additive Schwarz (``asm``), each
+    on several ranks one application of restricted additive Schwarz, each
     rank's LU of its part of the band grown by ``overlap`` nodes on either
-    side: a slab couples nodes so weakly across a few dozen elements that
-    one application gives the solution to rounding (docs/parallel.md gives
-    the measured errors and speed).
+    side (:class:`OverlapLU`; ``-pc_asm_overlap`` sets another): a slab
+    couples nodes so weakly across a few dozen elements that one
+    application gives the solution to rounding (docs/parallel.md gives the
+    measured errors and speed).  Any ``-ksp_type`` or ``-pc_type`` option
+    puts a PETSc KSP in its place (``-pc_type asm`` with the same defaults).
     """
 
-    def __init__(self, A, comm, overlap=32):
+    def __init__(self, A, space, overlap=32):
+        comm = space.comm
+        self.count = 0             # linear solves (applications of the factors)
+        self.schwarz = None
+        opts = PETSc.Options()
+        overlap = opts.getInt(PREFIX + "pc_asm_overlap", overlap)
+        if overlap < 0:
+            raise InputError(f"-pc_asm_overlap: must be 0 or more nodes, got {overlap}")
+        if comm.getSize() > 1 and not any(opts.hasName(PREFIX + k)
+                                          for k in ("ksp_type", "pc_type")):
+            self.schwarz = OverlapLU(A, space, overlap)
+            self.ksp = self.pc = None
+            self.direct, self.serial_direct = True, False
+            return
         ksp = PETSc.KSP().create(comm=comm)
         ksp.setOptionsPrefix(PREFIX)
         ksp.setOperators(A, A)
@@ -56,10 +72,13 @@ class LinearSolver:
         self.ksp, self.pc = ksp, pc
         self.direct = ksp.getType() == "preonly"
         self.serial_direct = self.direct and comm.getSize() == 1
-        self.count = 0             # linear solves (applications of the factors)
         ksp.viewFromOptions("-ksp_view")
 
     def solve(self, b, x, slab_index=None):
+        if self.schwarz is not None:
+            self.schwarz.apply(b, x)
+            self.count += 1
+            return
         if self.direct:
             # KSPSolve of KSPPREONLY would first zero x (measured: 7 % of
             # a solve at 1e6 elements) and then apply the PC: do the latter.
@@ -79,13 +98,18 @@ class LinearSolver:
         """Whether x (stored in ``array``) is finite.  On one rank its first
         entry says it: an LU solve carries a NaN or Inf anywhere in b or the
         factors into every entry of the backward sweep (0 * NaN is NaN), so
-        no pass over x."""
+        no pass over x (on several ranks each rank's part, by the same
+        argument for its grown block, then a logical and)."""
+        if self.schwarz is not None:
+            return self.schwarz.finite(array)
         if not self.serial_direct:
             return np.isfinite(x.norm())
         return array.size == 0 or math.isfinite(array[0])
 
     def describe(self):
         """One line naming the linear solver actually in use."""
+        if self.schwarz is not None:
+            return self.schwarz.describe()
         what = self.pc.getType()
         if what in ("lu", "cholesky", "ilu", "icc"):
             what = f"{what} ({self.pc.getFactorSolverType()})"

@@ -79,7 +79,7 @@ class SlabSolver:
         self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
         self._loads = None              # (local dofs, -W T f, f) of the open slab
         self._row_cache = {}
-        self.linear = LinearSolver(self.A, comm, schwarz_overlap(model.mesh, dt))
+        self.linear = LinearSolver(self.A, self.space, schwarz_overlap(model.mesh, dt))
         self.fields = FieldTerms(self.space, loads, self.W, self.V, dt)
         self.reactions = None if loads.all_fixed else \
             Reactions(self.space, ops, dt, self.W, self.V, loads.fixed_nodes)
