@@ -14,6 +14,8 @@ import tempfile
 import h5py
 import numpy as np
 
+import sweep_speed
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 SOLVERS = {
@@ -26,9 +28,11 @@ SOLVERS = {
                                           "-sub_pc_factor_mat_ordering_type", "natural"],
     "redundant LU (PETSc, natural)": [
         "-pc_type", "redundant", "-redundant_pc_factor_mat_ordering_type", "natural"],
-    "additive Schwarz, overlap 32, LU per rank (default on several ranks)": [
+    "PETSc's additive Schwarz (PCASM), overlap 32, LU per rank": [
         "-pc_type", "asm", "-pc_asm_overlap", "32", "-sub_pc_type", "lu",
         "-sub_pc_factor_mat_ordering_type", "natural"],
+    "default (one rank: LU; several: restricted Schwarz written out, overlap 32)": [
+        "-pc_asm_overlap", "32"],
 }
 
 
@@ -61,42 +65,51 @@ def measure(folder, ranks, options, elements, slabs):
             "v_end": v.tolist()[-1]}
 
 
-def run_seconds(folder, ranks, text):
-    """Seconds of a run after its set-up (no output but the first and last rows)."""
+def run_seconds(folder, ranks, text, copies=1):
+    """Seconds of a run after its set-up (no output but the first and last
+    rows); with ``copies`` > 1 that many one-rank runs at once, the slowest."""
     case = os.path.join(folder, "s.toml")
     with open(case, "w") as f:
         f.write(text)
-    out = os.path.join(folder, f"s{ranks}.h5")
-    cmd = [VSTPETSC, "run", case, "-o", out, "--quiet"]
+    outs = [os.path.join(folder, f"s{ranks}-{k}.h5") for k in range(copies)]
+    cmd = [VSTPETSC, "run", case, "--quiet", "-o"]
     if ranks > 1:
         cmd = ["mpirun", "-n", str(ranks)] + cmd
-    subprocess.run(cmd, capture_output=True, check=True)
-    with h5py.File(out) as f:
-        return float(f.attrs["wall_time"] - f.attrs["setup_time"])
+    for p in [subprocess.Popen(cmd + [out], stdout=subprocess.DEVNULL) for out in outs]:
+        if p.wait() != 0:
+            raise RuntimeError(f"{' '.join(cmd)} failed")
+    seconds = []
+    for out in outs:
+        with h5py.File(out) as f:
+            seconds.append(float(f.attrs["wall_time"] - f.attrs["setup_time"]))
+    return max(seconds)
 
 
 def speedup(elements, slabs, reps=3):
-    """Per-slab time of 1 rank (its LU) and 2 ranks (the default, additive
-    Schwarz) from the difference of runs of ``slabs`` and 3 ``slabs``
-    slabs without output (fixed costs cancel): min and median over reps,
-    and the ratios."""
-    times = {1: [], 2: []}
+    """Per-slab time of 1 rank (its LU), 2 ranks (the default, restricted
+    Schwarz) and the ideal (two one-rank runs of half the bar at once: no
+    communication, no overlap) from the difference of runs of ``slabs`` and
+    3 ``slabs`` slabs without output (fixed costs cancel): min and median
+    over reps, and the ratios to one rank."""
+    times = {"one": [], "two": [], "halves": []}
     with tempfile.TemporaryDirectory() as folder:
         for _ in range(reps):
-            for ranks in (1, 2):
-                short, long = (run_seconds(folder, ranks, case_text(elements, n).replace(
-                    "every = 10", "every = 1000000000")) for n in (slabs, 3 * slabs))
-                times[ranks].append((long - short) / (2 * slabs))
-    one, two = (np.array(times[r]) for r in (1, 2))
-    return {"elements": elements, "slabs": slabs, "one_min_ms": 1e3 * one.min(),
-            "one_median_ms": 1e3 * np.median(one), "two_min_ms": 1e3 * two.min(),
-            "two_median_ms": 1e3 * np.median(two), "speedup": one.min() / two.min(),
-            "speedup_median": float(np.median(one) / np.median(two))}
+            for key, ranks, size, copies in (("one", 1, elements, 1), ("two", 2, elements, 1),
+                                             ("halves", 1, elements // 2, 2)):
+                short, long = (run_seconds(folder, ranks, case_text(size, n).replace(
+                    "every = 10", "every = 1000000000"), copies) for n in (slabs, 3 * slabs))
+                times[key].append((long - short) / (2 * slabs))
+    out = {"elements": elements, "slabs": slabs}
+    for key, t in times.items():
+        out[f"{key}_min_ms"], out[f"{key}_median_ms"] = 1e3 * min(t), 1e3 * np.median(t)
+    for key in ("two", "halves"):
+        out[f"speedup_{key}"] = min(times["one"]) / min(times[key])
+        out[f"speedup_{key}_median"] = float(np.median(times["one"]) / np.median(times[key]))
+    return out
 
 
-def main(elements=None, slabs=None, *only):
-    elements = int(elements or os.environ.get("ELEMENTS", 1_000_000))
-    slabs = int(slabs or os.environ.get("SLABS", 40))
+def solver_rows(elements, slabs, only):
+    """The solver table's rows, each solver on 1 and 2 ranks."""
     rows = []
     with tempfile.TemporaryDirectory() as folder:
         for ranks in (1, 2):
@@ -110,10 +123,10 @@ def main(elements=None, slabs=None, *only):
     for r in rows:
         if "v_end" in r:
             r["rel_diff_vs_first"] = abs(r["v_end"] - ref) / abs(ref)
-    speed = [speedup(n, m) for n, m in ((100_000, 300), (elements, 40))]
-    with open(os.path.join(HERE, "parallel.json"), "w") as f:
-        json.dump({"elements": elements, "slabs": slabs, "rows": rows, "speedup": speed}, f,
-                  indent=1)
+    return rows
+
+
+def solver_table(rows, elements, slabs):
     lines = ["# Linear slab solve: solvers on 1 and 2 ranks", "",
              f"Generated by `bench/parallel_solvers.py`: clamped steel bar, {elements} "
              f"elements ({2 * (elements + 1)} unknowns), c dt / h = 1, no contact, "
@@ -127,15 +140,46 @@ def main(elements=None, slabs=None, *only):
         else:
             lines.append(f"| {r['ranks']} | {r['solver']} | {r['ms_per_slab']:.1f} | "
                          f"{r['setup_s']:.2f} | {r['rel_diff_vs_first']:.1e} |")
-    lines += ["", "Speed-up of the default: time per slab from the difference of runs of n and "
-              "3n slabs without output (set-up and the first and last rows cancel), 3 "
-              "repetitions; goal 2 ranks >= 1.6 x one rank at 1e6, faster at 1e5.", "",
-              "| elements | 1 rank (LU) [ms] min / median | 2 ranks (Schwarz) [ms] min / median "
-              "| speed-up min / median |", "|---|---|---|---|"]
+    return lines
+
+
+def speed_table(speed, sweeps):
+    lines = ["", "Speed-up of the default: time per slab from the difference of runs of n and "
+             "3n slabs without output (set-up and the first and last rows cancel), 3 "
+             "repetitions; goal 2 ranks >= 1.6 x one rank at 1e6, faster at 1e5. Ideal: two "
+             "one-rank runs of half the bar at once (what two cores give with no "
+             "communication and no overlap).", "",
+             "| elements | slabs | 1 rank (LU) [ms] min / median | 2 ranks [ms] min / median "
+             "| speed-up min / median | ideal [ms] min / median | ideal speed-up min / median |",
+             "|---|---|---|---|---|---|---|"]
     for r in speed:
-        lines.append(f"| {r['elements']} | {r['one_min_ms']:.2f} / {r['one_median_ms']:.2f} | "
-                     f"{r['two_min_ms']:.2f} / {r['two_median_ms']:.2f} | "
-                     f"{r['speedup']:.2f} / {r['speedup_median']:.2f} |")
+        lines.append(f"| {r['elements']} | {r['slabs']} | {r['one_min_ms']:.2f} / "
+                     f"{r['one_median_ms']:.2f} | {r['two_min_ms']:.2f} / "
+                     f"{r['two_median_ms']:.2f} | {r['speedup_two']:.2f} / "
+                     f"{r['speedup_two_median']:.2f} | {r['halves_min_ms']:.2f} / "
+                     f"{r['halves_median_ms']:.2f} | {r['speedup_halves']:.2f} / "
+                     f"{r['speedup_halves_median']:.2f} |")
+    lines += ["", "Sweeps (bench/sweep_speed.py): `mpirun -n P vstpetsc sweep` of 8 runs of "
+              "bar-wall at 2000 elements, c dt/h = 1, start-up included; 3 repetitions; goal "
+              "2 ranks >= 1.8 x one. Last column: the runs' own wall times summed (the least "
+              "over repetitions), on one rank and on two (two runs at once).", "",
+              "| slabs a run | 1 rank [s] min / median | 2 ranks [s] min / median | "
+              "speed-up min / median | runs' sum [s] 1 / 2 ranks |", "|---|---|---|---|---|"]
+    for r in sweeps:
+        lines += sweep_speed.table(r)
+    return lines
+
+
+def main(elements=None, slabs=None, *only):
+    elements = int(elements or os.environ.get("ELEMENTS", 1_000_000))
+    slabs = int(slabs or os.environ.get("SLABS", 40))
+    rows = solver_rows(elements, slabs, only)
+    speed = [speedup(n, m) for n, m in ((100_000, 300), (elements, 100))]
+    sweeps = [sweep_speed.sweep_speedup(n) for n in (15_000, 40_000)]
+    with open(os.path.join(HERE, "parallel.json"), "w") as f:
+        json.dump({"elements": elements, "slabs": slabs, "rows": rows, "speedup": speed,
+                   "sweeps": sweeps}, f, indent=1)
+    lines = solver_table(rows, elements, slabs) + speed_table(speed, sweeps)
     with open(os.path.join(HERE, "parallel.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
 
