@@ -8,8 +8,11 @@ SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # /usr/lib/petsc alternative that petsc4py's .pth file looks for).
 DEBS  := python3-petsc4py python3-mpi4py python3-h5py python3-numpy python3-scipy \
          python3-matplotlib python3-pytest python3-hypothesis python3-venv \
-         python3-setuptools python3-pip libpetsc-real3.18-dev openmpi-bin
+         python3-setuptools python3-pip libpetsc-real3.18-dev openmpi-bin gcc libc6-dev
 STAMP := $(VENV)/.installed
+# the compiled Newton for penalty pairs (vstpetsc/native); no fused
+# multiply-adds, so that it repeats the Python Newton's arithmetic
+NATIVE := vstpetsc/native/libvstnative.so
 
 # OpenMPI refuses root without these; oversubscribe lets 2 ranks share 1 core.
 export OMPI_ALLOW_RUN_AS_ROOT := 1
@@ -19,7 +22,10 @@ export MPLBACKEND := agg
 
 .PHONY: install demo test bench bench-quick bench-parallel soak clean formulations figures
 
-install: $(STAMP)
+install: $(STAMP) $(NATIVE)
+
+$(NATIVE): vstpetsc/native/penalty_newton.c $(STAMP)
+	gcc -O2 -fPIC -shared -ffp-contract=off -Wall -Wextra -o $@ $< -lm
 
 $(STAMP): pyproject.toml
 	@missing=$$(for p in $(DEBS); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
@@ -40,7 +46,7 @@ test: install
 	$(PY) -m pytest -q tests
 
 clean:
-	rm -rf $(VENV) build *.egg-info demo.h5
+	rm -rf $(VENV) build *.egg-info demo.h5 $(NATIVE)
 
 formulations: install
 	$(PY) docs/compare_formulations.py

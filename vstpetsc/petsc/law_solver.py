@@ -5,6 +5,7 @@ their converged terms leave in the running right-hand side."""
 import numpy as np
 from petsc4py import PETSc
 
+from vstpetsc import native
 from vstpetsc.lawset import LawSet
 from vstpetsc.petsc.newton import Coupling, Full, SnesCondensed
 from vstpetsc.petsc.options import PREFIX
@@ -58,6 +59,9 @@ class LawSolver:
         else:
             opts = PETSc.Options()
             kind = ManyLawNewton if len(self.laws.laws) > MANY else ReducedNewton
+            if options.native and native.library() is not None and \
+                    native.takes(self.laws.laws):
+                kind = native.NativeNewton
             self.newton = kind(self.laws, self.coupling.S_red,
                                         rtol=opts.getReal(PREFIX + "snes_rtol", 1e-12),
                                         atol=opts.getReal(PREFIX + "snes_atol", 1e-50),
@@ -112,6 +116,8 @@ class LawSolver:
         """The Newton in use, for the run header."""
         if self.newton is None:
             return ""
+        if isinstance(self.newton, native.NativeNewton):
+            return f"; Newton: plain, compiled, on the laws' {self.laws.reduced} coordinates"
         if isinstance(self.newton, ReducedNewton):      # ManyLawNewton too
             return f"; Newton: plain, on the laws' {self.laws.reduced} coordinates"
         where = "all unknowns" if isinstance(self.newton, Full) else \

@@ -107,7 +107,9 @@ class SolverOptions:
     - ``-vst_fd_jacobian``: the laws' tangent by central differences;
     - ``-vst_ownership n0,n1,...``: nodes per rank (the DMDA layout);
     - ``-vst_flush_interval SECONDS``: the longest wall time between two
-      blocks of rows written to the result file (0: every kept row).
+      blocks of rows written to the result file (0: every kept row);
+    - ``-vst_native 0``: the Python Newton for penalty pairs instead of
+      the compiled one (:mod:`vstpetsc.native`; the same answer).
     """
 
     mat_type: str = "baij"
@@ -115,6 +117,7 @@ class SolverOptions:
     fd_jacobian: bool = False
     ownership: tuple | None = None
     flush_interval: float = 0.5
+    native: bool = True
 
     @classmethod
     def read(cls, nnodes, size):
@@ -134,7 +137,8 @@ class SolverOptions:
         except (ValueError, AssertionError):
             raise InputError(f"-vst_flush_interval: seconds >= 0, got {text!r}") from None
         return cls(mat_type, newton, opts.getBool(PREFIX + "fd_jacobian", False),
-                   _ownership(opts, nnodes, size), interval)
+                   _ownership(opts, nnodes, size), interval,
+                   opts.getBool(PREFIX + "native", True))
 
 
 def _ownership(opts, nnodes, size):

@@ -1,0 +1,364 @@
+/* The plain Newton of vstpetsc.reduced_newton for penalty contact pairs
+ * (vstpetsc.laws.penalty, vstpetsc.laws.gap), in C.
+ *
+ * Same algorithm and the same floating-point operations in the same order
+ * as the Python (built with -ffp-contract=off: no fused multiply-adds), so
+ * a slab's answer is the Python one bit for bit whenever at most one pair
+ * acts at a time; with several acting pairs the step's dense solve is
+ * Gaussian elimination here and LAPACK in numpy, equal to rounding
+ * (tests/test_native.py checks both).
+ *
+ * The caller (vstpetsc/native/__init__.py) owns every array; nothing is
+ * allocated here beyond the stack.
+ */
+#include <math.h>
+#include <string.h>
+
+#define MAX_ROWS 64            /* 2 x the pairs the kernel takes (32) */
+
+typedef struct {
+    int laws;                  /* L pairs: 2L coordinates y */
+    int max_it;
+    double rtol, atol, dt;
+    const double *S;           /* 2L x 2L, row-major */
+    const double *y0;          /* the law-free coordinates */
+    double *y;                 /* in: the start; out: the solution */
+    const double *gn;          /* the pairs' gaps at t^n */
+    const double *w;           /* the pairs' penalties */
+    const int *power;          /* 1: the "power" weight T_a, 0: the seed's I_a */
+    double *f;                 /* out: f at the last evaluation (2L) */
+    double *out;               /* out: the pairs' (f1, f2, t11, t12, t21, t22) (6L) */
+    double *integrals;         /* out: the pairs' (G1, G2, W11, W12, W21, W22) (6L) */
+    int *hit;                  /* out: whether each pair acted at the last evaluation */
+    int iterations;            /* out */
+    double norm;               /* out: the last residual's largest entry */
+} Newton;
+
+/* Python's max(map(abs, a)): the first of the largest, NaN as Python treats it */
+static double max_abs(const double *a, int n)
+{
+    double m = fabs(a[0]);
+    for (int i = 1; i < n; i++) {
+        double x = fabs(a[i]);
+        if (x > m)
+            m = x;
+    }
+    return m;
+}
+
+static int closed_throughout(double a0, double a1, double a2)
+{
+    if (a0 >= 0.0 || a0 + a1 + a2 >= 0.0)
+        return 0;
+    if (a2 < 0.0) {
+        double t = -a1 / (2.0 * a2);
+        return !(0.0 < t && t < 1.0 && a0 + t * (a1 + t * a2) >= 0.0);
+    }
+    return 1;
+}
+
+static int closed_somewhere(double a0, double a1, double a2)
+{
+    if (a0 < 0.0 || a0 + a1 + a2 < 0.0)
+        return 1;
+    if (a2 > 0.0) {
+        double t = -a1 / (2.0 * a2);
+        return 0.0 < t && t < 1.0 && a0 + t * (a1 + t * a2) < 0.0;
+    }
+    return 0;
+}
+
+/* roots of a0 + a1 t + a2 t^2 strictly inside (0, 1), sorted: their count */
+static int roots01(double a0, double a1, double a2, double *r)
+{
+    double c[2];
+    int n = 0, k = 0;
+    if (a2 != 0.0) {
+        double disc = a1 * a1 - 4.0 * a2 * a0;
+        if (disc < 0.0)
+            return 0;
+        double q = -0.5 * (a1 + copysign(sqrt(disc), a1));
+        if (q == 0.0)
+            return 0;
+        double r1 = q / a2, r2 = a0 / q;
+        /* Python's sorted((r1, r2)): swap only when r2 < r1 */
+        if (r2 < r1) { c[0] = r2; c[1] = r1; } else { c[0] = r1; c[1] = r2; }
+        n = 2;
+    } else if (a1 != 0.0) {
+        c[0] = -a0 / a1;
+        n = 1;
+    }
+    for (int i = 0; i < n; i++)
+        if (0.0 < c[i] && c[i] < 1.0)
+            r[k++] = c[i];
+    return k;
+}
+
+/* vstpetsc.laws.gap.pair_integrals: 1 and G[6] when the pair acts, else 0 */
+static int pair_integrals(double gn, double d1, double d2, double dt, int power, double *G)
+{
+    /* sqrt(0.6): Python's repr of math.sqrt(0.6), which parses to the same double */
+    static const double SQ = 0.7745966692414834;
+    double a0 = gn, a1 = -dt * d1, a2 = 0.5 * dt * (d1 - d2);
+    if (closed_throughout(a0, a1, a2)) {
+        if (power) {
+            double w = dt * dt;
+            G[0] = dt * (a0 / 2.0 + a1 / 6.0 + a2 / 12.0);
+            G[1] = dt * (a0 / 2.0 + a1 / 3.0 + a2 / 4.0);
+            G[2] = w / 8.0; G[3] = w / 24.0; G[4] = 5.0 * w / 24.0; G[5] = w / 8.0;
+        } else {
+            double w = dt * dt * dt;
+            G[0] = dt * dt * (a0 / 3.0 + 5.0 * a1 / 24.0 + 3.0 * a2 / 20.0);
+            G[1] = dt * dt * (a0 / 6.0 + a1 / 8.0 + a2 / 10.0);
+            G[2] = 2.0 * w / 15.0; G[3] = 3.0 * w / 40.0; G[4] = 3.0 * w / 40.0;
+            G[5] = w / 20.0;
+        }
+        return 1;
+    }
+    if (!closed_somewhere(a0, a1, a2))
+        return 0;
+    const double gx[3] = {0.5 - 0.5 * SQ, 0.5, 0.5 + 0.5 * SQ};
+    const double gw[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+    double edges[4];
+    int ne = 0;
+    edges[ne++] = 0.0;
+    ne += roots01(a0, a1, a2, edges + 1);
+    edges[ne++] = 1.0;
+    double G1 = 0.0, G2 = 0.0, W11 = 0.0, W12 = 0.0, W21 = 0.0, W22 = 0.0;
+    int hit = 0;
+    for (int k = 0; k < ne - 1; k++) {
+        double p = edges[k], q = edges[k + 1];
+        double length = q - p;
+        double mid = p + 0.5 * length;
+        if (length <= 0.0 || a0 + mid * (a1 + mid * a2) >= 0.0)
+            continue;
+        hit = 1;
+        for (int i = 0; i < 3; i++) {
+            double t = p + length * gx[i];
+            double w = dt * length * gw[i];
+            double g = a0 + t * (a1 + t * a2);
+            double half = 0.5 * t * t;
+            double i1 = dt * (t - half), i2 = dt * half;
+            double f1 = power ? 1.0 - t : i1, f2 = power ? t : i2;
+            G1 += w * g * f1;
+            G2 += w * g * f2;
+            double w1 = w * f1, w2 = w * f2;
+            W11 += w1 * i1;
+            W12 += w1 * i2;
+            W21 += w2 * i1;
+            W22 += w2 * i2;
+        }
+    }
+    if (!hit)
+        return 0;
+    G[0] = G1; G[1] = G2; G[2] = W11; G[3] = W12; G[4] = W21; G[5] = W22;
+    return 1;
+}
+
+/* the pairs' outputs at y, r = y - y0 + S f and max |S f| (ReducedNewton._residual) */
+static double residual(Newton *c, const double *y, double *r, int *any)
+{
+    int n = 2 * c->laws;
+    double sf[MAX_ROWS];
+    *any = 0;
+    for (int j = 0; j < c->laws; j++) {
+        double *G = c->integrals + 6 * j, *o = c->out + 6 * j, w = c->w[j];
+        c->hit[j] = pair_integrals(c->gn[j], y[2 * j], y[2 * j + 1], c->dt, c->power[j], G);
+        if (c->hit[j]) {
+            *any = 1;
+            o[0] = -w * G[0]; o[1] = -w * G[1];
+            o[2] = w * G[2]; o[3] = w * G[3]; o[4] = w * G[4]; o[5] = w * G[5];
+        }
+    }
+    for (int i = 0; i < n; i++)
+        sf[i] = 0.0;
+    for (int j = 0; j < c->laws; j++) {
+        if (!c->hit[j])
+            continue;
+        double f1 = c->out[6 * j], f2 = c->out[6 * j + 1];
+        for (int i = 0; i < n; i++) {
+            const double *row = c->S + i * n;
+            sf[i] += row[2 * j] * f1 + row[2 * j + 1] * f2;
+        }
+    }
+    for (int i = 0; i < n; i++)
+        r[i] = y[i] - c->y0[i] + sf[i];
+    return max_abs(sf, n);
+}
+
+/* _solve2: 0 when singular */
+static int solve2(double m11, double m12, double m21, double m22, double r0, double r1,
+                  double *d)
+{
+    double det = m11 * m22 - m12 * m21;
+    if (det == 0.0 || det != det || fabs(det) == INFINITY)
+        return 0;
+    d[0] = (m22 * r0 - m12 * r1) / det;
+    d[1] = (m11 * r1 - m21 * r0) / det;
+    return 1;
+}
+
+/* d f_c / d y_b (zero across pairs) */
+static double tangent(const Newton *c, int b, int cc)
+{
+    int j = cc / 2;
+    if (b / 2 != j || !c->hit[j])
+        return 0.0;
+    return c->out[6 * j + 2 + 2 * (cc % 2) + b % 2];
+}
+
+/* Gaussian elimination with partial pivoting on M (m x m): 0 when singular */
+static int solve_dense(double *M, double *x, int m)
+{
+    for (int k = 0; k < m; k++) {
+        int p = k;
+        for (int i = k + 1; i < m; i++)
+            if (fabs(M[i * m + k]) > fabs(M[p * m + k]))
+                p = i;
+        if (M[p * m + k] == 0.0 || M[p * m + k] != M[p * m + k])
+            return 0;
+        if (p != k) {
+            for (int jj = 0; jj < m; jj++) {
+                double t = M[k * m + jj]; M[k * m + jj] = M[p * m + jj]; M[p * m + jj] = t;
+            }
+            double t = x[k]; x[k] = x[p]; x[p] = t;
+        }
+        for (int i = k + 1; i < m; i++) {
+            double l = M[i * m + k] / M[k * m + k];
+            for (int jj = k; jj < m; jj++)
+                M[i * m + jj] -= l * M[k * m + jj];
+            x[i] -= l * x[k];
+        }
+    }
+    for (int k = m - 1; k >= 0; k--) {
+        double s = x[k];
+        for (int jj = k + 1; jj < m; jj++)
+            s -= M[k * m + jj] * x[jj];
+        x[k] = s / M[k * m + k];
+    }
+    for (int k = 0; k < m; k++)
+        if (!isfinite(x[k]))
+            return 0;
+    return 1;
+}
+
+/* the step with several acting pairs (ReducedNewton._step's general branch) */
+static int step_many(Newton *c, const double *r, double *step, const int *rows, int m)
+{
+    int n = 2 * c->laws;
+    double M[MAX_ROWS * MAX_ROWS], d[MAX_ROWS], jd[MAX_ROWS];
+    for (int ia = 0; ia < m; ia++) {
+        for (int ib = 0; ib < m; ib++) {
+            double s = 0.0;
+            for (int ic = 0; ic < m; ic++)
+                s += c->S[rows[ia] * n + rows[ic]] * tangent(c, rows[ib], rows[ic]);
+            M[ia * m + ib] = (double)(rows[ia] == rows[ib]) + s;
+        }
+        d[ia] = r[rows[ia]];
+    }
+    if (!solve_dense(M, d, m))
+        return 0;
+    memcpy(step, r, n * sizeof(double));
+    int in_rows[MAX_ROWS] = {0};
+    for (int ic = 0; ic < m; ic++) {
+        double s = 0.0;
+        for (int ib = 0; ib < m; ib++)
+            s += tangent(c, rows[ib], rows[ic]) * d[ib];
+        jd[ic] = s;
+        step[rows[ic]] = d[ic];
+        in_rows[rows[ic]] = 1;
+    }
+    for (int i = 0; i < n; i++) {
+        if (in_rows[i])
+            continue;
+        double s = 0.0;
+        for (int ic = 0; ic < m; ic++)
+            s += c->S[i * n + rows[ic]] * jd[ic];
+        step[i] = r[i] - s;
+    }
+    return 1;
+}
+
+/* (I + S f'(y))^-1 r (ReducedNewton._step and _step_one): 0 when singular */
+static int newton_step(Newton *c, const double *r, double *step)
+{
+    int n = 2 * c->laws, rows[MAX_ROWS], m = 0, j = -1;
+    for (int k = 0; k < c->laws; k++)
+        if (c->hit[k]) {
+            rows[m++] = 2 * k; rows[m++] = 2 * k + 1; j = k;
+        }
+    if (m == 0) {
+        memcpy(step, r, n * sizeof(double));
+        return 1;
+    }
+    if (m > 2)
+        return step_many(c, r, step, rows, m);
+    const double *S = c->S, *o = c->out + 6 * j;
+    int a = 2 * j, b = 2 * j + 1;
+    double t11 = o[2], t12 = o[3], t21 = o[4], t22 = o[5], d[2];
+    if (!solve2(1.0 + S[a * n + a] * t11 + S[a * n + b] * t21,
+                S[a * n + a] * t12 + S[a * n + b] * t22,
+                S[b * n + a] * t11 + S[b * n + b] * t21,
+                1.0 + S[b * n + a] * t12 + S[b * n + b] * t22, r[a], r[b], d))
+        return 0;
+    double jd1 = t11 * d[0] + t12 * d[1], jd2 = t21 * d[0] + t22 * d[1];
+    for (int i = 0; i < n; i++)
+        step[i] = r[i] - S[i * n + a] * jd1 - S[i * n + b] * jd2;
+    step[a] = d[0];
+    step[b] = d[1];
+    return 1;
+}
+
+/* f at the last evaluation (ReducedNewton._keep) */
+static void keep(Newton *c)
+{
+    for (int j = 0; j < c->laws; j++) {
+        c->f[2 * j] = c->hit[j] ? c->out[6 * j] : 0.0;
+        c->f[2 * j + 1] = c->hit[j] ? c->out[6 * j + 1] : 0.0;
+    }
+}
+
+/* ReducedNewton.solve: 0 converged, 1 not (c->norm, c->iterations set) */
+int vst_penalty_newton(Newton *c, int from_start)
+{
+    int n = 2 * c->laws, any;
+    double r[MAX_ROWS], step[MAX_ROWS], trial[MAX_ROWS];
+    if (c->laws < 1 || n > MAX_ROWS)
+        return 2;
+    if (!from_start)
+        memcpy(c->y, c->y0, n * sizeof(double));
+    double sf = residual(c, c->y, r, &any);
+    if (from_start && !any) {
+        /* a start where no pair acts: its step would go straight back to y0 */
+        memcpy(c->y, c->y0, n * sizeof(double));
+        sf = residual(c, c->y, r, &any);
+    }
+    double size = max_abs(c->y0, n), norm = max_abs(r, n);
+    for (int it = 0; it <= c->max_it; it++) {
+        if (norm <= fmax(c->atol, c->rtol * (size + sf))) {
+            c->iterations = it;
+            c->norm = norm;
+            keep(c);
+            return 0;
+        }
+        if (it == c->max_it || !newton_step(c, r, step))
+            break;
+        /* ReducedNewton._line: full step, halved while the residual grows */
+        double lam = 1.0, fresh = norm;
+        for (int h = 0; h < 20; h++) {
+            for (int i = 0; i < n; i++)
+                trial[i] = c->y[i] - lam * step[i];
+            sf = residual(c, trial, r, &any);
+            fresh = max_abs(r, n);
+            if (fresh < norm || lam < 1e-5)
+                break;
+            lam *= 0.5;
+        }
+        memcpy(c->y, trial, n * sizeof(double));
+        norm = fresh;
+    }
+    c->iterations = c->max_it;
+    c->norm = norm;
+    keep(c);
+    return 1;
+}
