@@ -88,32 +88,33 @@ def per_slab(path, contact):
     return float(step[its > 0].mean()), float(its[its > 0].mean()), active
 
 
-def run_once(folder, text):
+def run_once(folder, text, options=()):
     """Seconds of a whole `vstpetsc run` of ``text`` (start-up included)."""
     path = os.path.join(folder, "case.toml")
     with open(path, "w") as f:
         f.write(text)
     out = os.path.join(folder, "r.h5")
     t0 = time.perf_counter()
-    p = subprocess.run([VSTPETSC, "run", path, "-o", out, "--quiet"], capture_output=True,
-                       text=True)
+    p = subprocess.run([VSTPETSC, "run", path, "-o", out, "--quiet", *options],
+                       capture_output=True, text=True)
     if p.returncode != 0:
         raise RuntimeError(p.stderr)
     return time.perf_counter() - t0, out
 
 
-def overhead(kind, elements, slabs, reps=5):
+def overhead(kind, elements, slabs, reps=5, options=()):
     """One row of the table: per-slab time (min, median over ``reps`` runs),
-    the floor (min, median) and their ratios."""
+    the floor (min, median) and their ratios; ``options`` for the runs."""
     text = case_text(kind, elements, slabs)
     times, newton, active = [], 0.0, 1.0
     with tempfile.TemporaryDirectory() as folder:
         for _ in range(reps):
-            _, out = run_once(folder, text)
+            _, out = run_once(folder, text, options)
             t, newton, active = per_slab(out, kind != "free")
             times.append(t)
     lo, mid = floor(text)
-    return {"case": kind, "elements": elements, "slabs": slabs,
+    name = kind + (f" ({' '.join(options)})" if options else "")
+    return {"case": name, "elements": elements, "slabs": slabs,
             "slab_min_us": 1e6 * min(times), "slab_median_us": 1e6 * statistics.median(times),
             "floor_min_us": 1e6 * lo, "floor_median_us": 1e6 * mid,
             "ratio": min(times) / lo, "ratio_median": statistics.median(times) / mid,

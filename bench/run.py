@@ -51,6 +51,10 @@ def measure_overhead(quick):
             row["goal"] = OVERHEAD_GOALS.get((kind, n))
             rows.append(row)
             print(f"overhead {kind} {n}: {row['ratio']:.1f} x floor", flush=True)
+    for kind in ("held", "impact"):        # the Python Newton, for comparison
+        rows.append(overhead.overhead(kind, 100, overhead.slabs_for(kind, 100, quick), reps,
+                                      options=("-vst_native", "0")))
+        rows[-1]["goal"] = None
     lo, mid = overhead.example_wall(reps=reps)
     return {"rows": rows, "bar_wall_min_s": lo, "bar_wall_median_s": mid}
 
@@ -248,7 +252,8 @@ def overhead_section(res):
         "the table. Cases (bench/overhead.py): free = clamped bar vibrating, c dt/h "
         "= 0.5; held = bar between two walls at zero gap, pressing on one or the "
         "other in every slab, c dt/h = 0.5; impact = the same at c dt/h = 1 (the "
-        "contact node chatters, the gap opens and closes inside slabs).",
+        "contact node chatters, the gap opens and closes inside slabs). Rows marked "
+        "(-vst_native 0) ran the Python Newton instead of the compiled one.",
         ("case", "elements", "slabs", "slab [us] min / median", "floor [us] min / median",
          "ratio min / median", "goal", "Newton its / slab"))
     for r in ov["rows"]:
