@@ -7,6 +7,7 @@ from petsc4py import PETSc
 
 from vstpetsc import native
 from vstpetsc.lawset import LawSet
+from vstpetsc.petsc.influence import LawInfluence
 from vstpetsc.petsc.newton import Coupling, Full, SnesCondensed
 from vstpetsc.petsc.options import PREFIX
 from vstpetsc.reduced_newton import ManyLawNewton, ReducedNewton
@@ -50,6 +51,7 @@ class LawSolver:
         space = solver.space
         self.coupling = Coupling(self.laws, solver.X, space.nodes, solver.W, solver.V,
                                  solver.linear, solver.carry, solver.x)
+        self.influence = LawInfluence(self.coupling.Zred, solver.x, space)
         if options.newton == "full":
             self.newton = Full(self.coupling, options.fd_jacobian, solver.A, solver.linear,
                                space)
@@ -87,7 +89,7 @@ class LawSolver:
         else:
             start = y0 - self.coupling.S_red @ self.f if self.acted else None
             y = self.newton.solve(y0, slab_index, start)
-            X.maxpy(-laws.f, self.coupling.Zred)
+            self.influence.subtract(laws.f)
         self.f[:] = laws.f
         self.acted = True
         f, y = self.f.tolist(), list(map(float, y))
