@@ -27,13 +27,19 @@ VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 C = np.sqrt(2.0e11 / 7850.0)
 
 
+def steel_bar(elements, slabs, cfl=0.5, every=100000):
+    """The [time], [output] and [[body]] tables of a steel bar of 1 m,
+    c dt / h = ``cfl`` (the body's v0 and the rest to follow)."""
+    dt = cfl / elements / C
+    return (f"[time]\ndt = {dt!r}\nend = {slabs * dt!r}\n[output]\nevery = {every}\n"
+            f"[[body]]\nname = \"bar\"\nx = [0.0, 1.0]\nelements = {elements}\n"
+            "E = 2.0e11\nrho = 7850.0\n")
+
+
 def bar_case(elements, slabs, contact=False, cfl=0.5):
     """A steel bar of 1 m: clamped and vibrating, or pressed onto a wall at
     zero gap (every slab of the run then has an active contact pair)."""
-    dt = cfl / elements / C
-    text = (f"[time]\ndt = {dt!r}\nend = {slabs * dt!r}\n[output]\nevery = 100000\n"
-            f"[[body]]\nname = \"bar\"\nx = [0.0, 1.0]\nelements = {elements}\n"
-            "E = 2.0e11\nrho = 7850.0\n")
+    text = steel_bar(elements, slabs, cfl)
     if contact:
         text += "v0 = 1.0\n[[contact]]\npair = [\"bar\", \"wall\"]\nwall = 1.0\n"
     else:
