@@ -47,6 +47,14 @@ class LinearSolver:
             self.ksp = self.pc = None
             self.direct, self.serial_direct = True, False
             return
+        self.ksp, self.pc = ksp, _ = self._petsc_ksp(A, comm, overlap)
+        self.direct = ksp.getType() == "preonly"
+        self.serial_direct = self.direct and comm.getSize() == 1
+        ksp.viewFromOptions("-ksp_view")
+
+    @staticmethod
+    def _petsc_ksp(A, comm, overlap):
+        """(ksp, pc): PETSc's KSP with vstpetsc's defaults, set up."""
         ksp = PETSc.KSP().create(comm=comm)
         ksp.setOptionsPrefix(PREFIX)
         ksp.setOperators(A, A)
@@ -69,10 +77,7 @@ class LinearSolver:
             pc.setFactorOrdering("natural")
         ksp.setFromOptions()       # the options database wins over the defaults above
         ksp.setUp()                # factors A, once per run
-        self.ksp, self.pc = ksp, pc
-        self.direct = ksp.getType() == "preonly"
-        self.serial_direct = self.direct and comm.getSize() == 1
-        ksp.viewFromOptions("-ksp_view")
+        return ksp, pc
 
     def solve(self, b, x, slab_index=None):
         if self.schwarz is not None:
