@@ -1,7 +1,11 @@
 """Compiled kernels: the plain Newton for penalty contact pairs in C
 (penalty_newton.c), the same operations as
-:class:`vstpetsc.reduced_newton.ReducedNewton` so the answer is the
-Python one (bit for bit while at most one pair acts at a time).
+:class:`vstpetsc.reduced_newton.ReducedNewton` so that from the same
+start its answer is the Python one (bit for bit while at most one pair
+acts at a time); and a whole slab of the pairs in one call
+(:class:`PenaltySlab`, the default), whose products with small matrices
+are plain loops instead of numpy's BLAS, so a run agrees with the Python
+one to rounding.
 
 `make install` builds ``libvstnative.so`` next to this file with the
 system's C compiler; without it (a plain ``pip install``) :func:`library`
@@ -33,6 +37,14 @@ class _Newton(ctypes.Structure):
                 ("norm", ctypes.c_double)]
 
 
+class _Slab(ctypes.Structure):
+    """The C struct Slab of penalty_newton.c, field for field."""
+
+    _fields_ = [("nodes", ctypes.c_int), ("acted", ctypes.c_int), ("u", _P), ("node", _P),
+                ("sign", _P), ("g0", _P), ("R0", _P), ("xE", _P), ("f_prev", _P),
+                ("work", _P), ("ran", ctypes.c_int)]
+
+
 def library():
     """The compiled kernels (None when not built)."""
     if not _loaded:
@@ -41,6 +53,8 @@ def library():
             lib = ctypes.CDLL(LIBRARY)
             lib.vst_penalty_newton.argtypes = [_P, ctypes.c_int]
             lib.vst_penalty_newton.restype = ctypes.c_int
+            lib.vst_penalty_slab.argtypes = [_P, _P]
+            lib.vst_penalty_slab.restype = ctypes.c_int
         _loaded.append(lib)
     return _loaded[0]
 
@@ -84,6 +98,10 @@ class NativeNewton:
             self.y[:] = start
         self.gn[:] = [law.gn for law in self.laws]
         code = self.lib.vst_penalty_newton(self.ref, start is not None)
+        return self._finish(code, slab_index)
+
+    def _finish(self, code, slab_index):
+        """The outputs of the C Newton into the LawSet and the pairs."""
         self.lawset.f[:] = self.f
         integrals, hit = self.integrals.tolist(), self.hit.tolist()
         for j, law in enumerate(self.laws):
@@ -94,3 +112,45 @@ class NativeNewton:
                               f"{self.ctx.norm:.3g})")
         self.iterations = self.ctx.iterations
         return self.y
+
+
+class PenaltySlab(NativeNewton):
+    """A whole slab of penalty pairs in one call (the LawSolver's start,
+    coordinates, test, start guess, Newton and work sums): the same steps
+    as the Python ones, equal to rounding (the products with R0 and S are
+    plain loops here, BLAS in numpy)."""
+
+    def __init__(self, lawset, S, R0, **kw):
+        super().__init__(lawset, S, **kw)
+        L = len(self.laws)
+        node = np.full(2 * L, -1, dtype=np.intc)
+        sign = np.zeros(2 * L)
+        for j, idx in enumerate(lawset.node_index):
+            node[2 * j:2 * j + idx.size] = idx
+            sign[2 * j:2 * j + idx.size] = self.laws[j].signs
+        self.node, self.sign = node, sign
+        self.g0 = np.array([law.g0 for law in self.laws], dtype=np.float64)
+        self.R0 = np.ascontiguousarray(R0, dtype=np.float64)
+        self.xE = np.zeros(self.R0.shape[1])
+        self.f_prev, self.work = np.zeros(2 * L), np.zeros(L)
+        self.u = lawset.u                      # updated in place by the LawSolver
+        self.slab = _Slab(lawset.nodes.size, 0, *(a.ctypes.data for a in (
+            self.u, node, sign, self.g0, self.R0, self.xE, self.f_prev, self.work)), 0)
+        self.slab_ref = ctypes.addressof(self.slab)
+
+    def run(self, f_prev, acted, slab_index):
+        """Solve the slab for the unknowns in ``xE`` (filled by the caller):
+        whether a pair acts; the LawSet's ``f``, the pairs' ``last``
+        integrals, ``y`` and ``work`` are then the slab's."""
+        self.f_prev[:] = f_prev
+        self.slab.acted = int(acted)
+        code = self.lib.vst_penalty_slab(self.ref, self.slab_ref)
+        for law, gap in zip(self.laws, self.gn.tolist()):     # the pairs' start_slab
+            law.gn = gap
+        if not self.slab.ran:
+            if acted:              # the pairs' last evaluation: nothing in this slab
+                for law in self.laws:
+                    law.last = None
+            return False
+        self._finish(code, slab_index)
+        return True

@@ -21,9 +21,9 @@ typedef struct {
     int max_it;
     double rtol, atol, dt;
     const double *S;           /* 2L x 2L, row-major */
-    const double *y0;          /* the law-free coordinates */
+    double *y0;                /* the law-free coordinates */
     double *y;                 /* in: the start; out: the solution */
-    const double *gn;          /* the pairs' gaps at t^n */
+    double *gn;                /* the pairs' gaps at t^n */
     const double *w;           /* the pairs' penalties */
     const int *power;          /* 1: the "power" weight T_a, 0: the seed's I_a */
     double *f;                 /* out: f at the last evaluation (2L) */
@@ -361,4 +361,65 @@ int vst_penalty_newton(Newton *c, int from_start)
     c->norm = norm;
     keep(c);
     return 1;
+}
+
+/* A whole slab of the pairs (LawSolver.solve with LawSet.start_slab,
+ * Coupling.coordinates and the work sums): the gaps at t^n from the nodes'
+ * displacements, the law-free coordinates y0 = R0 x_E, whether any pair
+ * closes, the start guess y0 - S f_prev and the Newton. */
+typedef struct {
+    int nodes;                 /* k: the pairs' nodes */
+    int acted;                 /* whether a pair acted in the previous slab */
+    const double *u;           /* (k) the nodes' displacements at t^n */
+    const int *node;           /* (2L) pair j's nodes (-1: none) */
+    const double *sign;        /* (2L) their signs */
+    const double *g0;          /* (L) initial gaps */
+    const double *R0;          /* (2L x 2k) y = R0 x_E */
+    const double *xE;          /* (2k) the slab's unknowns at the pairs' dofs */
+    const double *f_prev;      /* (2L) the pairs' terms of the previous slab */
+    double *work;              /* out: (L) f . y of each pair */
+    int ran;                   /* out: whether a pair acts (Newton ran) */
+} Slab;
+
+int vst_penalty_slab(Newton *c, Slab *s)
+{
+    int L = c->laws, n = 2 * L, k2 = 2 * s->nodes, any = 0;
+    if (L < 1 || n > MAX_ROWS)
+        return 2;
+    for (int j = 0; j < L; j++) {
+        double moved = 0.0;
+        for (int a = 0; a < 2; a++)
+            if (s->node[2 * j + a] >= 0)
+                moved = a == 0 ? s->sign[2 * j] * s->u[s->node[2 * j]]
+                               : moved + s->sign[2 * j + 1] * s->u[s->node[2 * j + 1]];
+        c->gn[j] = s->g0[j] - moved;
+    }
+    for (int i = 0; i < n; i++) {
+        double y = 0.0;
+        for (int m = 0; m < k2; m++)
+            y += s->R0[i * k2 + m] * s->xE[m];
+        c->y0[i] = y;
+    }
+    for (int j = 0; j < L && !any; j++) {
+        double a0 = c->gn[j], a1 = -c->dt * c->y0[2 * j];
+        double a2 = 0.5 * c->dt * (c->y0[2 * j] - c->y0[2 * j + 1]);
+        any = closed_somewhere(a0, a1, a2);
+    }
+    s->ran = any;
+    if (!any) {
+        for (int j = 0; j < L; j++)
+            c->hit[j] = 0;
+        return 0;
+    }
+    if (s->acted)
+        for (int i = 0; i < n; i++) {
+            double sf = 0.0;
+            for (int m = 0; m < n; m++)
+                sf += c->S[i * n + m] * s->f_prev[m];
+            c->y[i] = c->y0[i] - sf;
+        }
+    int code = vst_penalty_newton(c, s->acted);
+    for (int j = 0; j < L; j++)
+        s->work[j] = c->f[2 * j] * c->y[2 * j] + c->f[2 * j + 1] * c->y[2 * j + 1];
+    return code;
 }

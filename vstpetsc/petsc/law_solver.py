@@ -61,17 +61,22 @@ class LawSolver:
         else:
             opts = PETSc.Options()
             kind = ManyLawNewton if len(self.laws.laws) > MANY else ReducedNewton
+            tolerances = dict(rtol=opts.getReal(PREFIX + "snes_rtol", 1e-12),
+                              atol=opts.getReal(PREFIX + "snes_atol", 1e-50),
+                              max_it=opts.getInt(PREFIX + "snes_max_it", 30))
             if options.native and native.library() is not None and \
                     native.takes(self.laws.laws):
-                kind = native.NativeNewton
-            self.newton = kind(self.laws, self.coupling.S_red,
-                                        rtol=opts.getReal(PREFIX + "snes_rtol", 1e-12),
-                                        atol=opts.getReal(PREFIX + "snes_atol", 1e-50),
-                                        max_it=opts.getInt(PREFIX + "snes_max_it", 30))
+                # the whole slab of the pairs in one compiled call
+                self.newton = native.PenaltySlab(self.laws, self.coupling.S_red,
+                                                 self.coupling.R0, **tolerances)
+            else:
+                self.newton = kind(self.laws, self.coupling.S_red, **tolerances)
 
     def solve(self, X, b, dt, slab_index):
         """Newton if a law acts for the law-free solution X (updated in
         place); returns the Newton iterations."""
+        if isinstance(self.newton, native.PenaltySlab):
+            return self._solve_compiled(X, slab_index)
         laws = self.laws
         laws.start_slab(dt)
         y0 = self.coupling.coordinates(X)
@@ -96,6 +101,21 @@ class LawSolver:
         for j, key in enumerate(self.keys):
             self.work[key] += f[2 * j] * y[2 * j] + f[2 * j + 1] * y[2 * j + 1]
         return self.newton.iterations
+
+    def _solve_compiled(self, X, slab_index):
+        """solve() for penalty pairs: one call for the slab's start, test,
+        guess, Newton and work (:class:`vstpetsc.native.PenaltySlab`)."""
+        step = self.newton
+        self.coupling.unknowns(X, step.xE)
+        if not step.run(self.f, self.acted, slab_index):
+            self.acted = False
+            return 0
+        self.influence.subtract(step.f)
+        self.f[:] = step.f
+        self.acted = True
+        for key, work in zip(self.keys, step.work.tolist()):
+            self.work[key] += work
+        return step.iterations
 
     def advance(self, X, b):
         """Close the slab: the laws' displacements, their terms carried over

@@ -98,6 +98,13 @@ class Coupling:
             return self.R0 @ self.array[self.local]
         return self.R0 @ self.gather(X)
 
+    def unknowns(self, X, out):
+        """The unknowns z at the laws' dofs into ``out`` (on every rank)."""
+        if self.local is not None:
+            np.take(self.array, self.local, out=out)
+        else:
+            out[:] = self.gather(X)
+
     def increments(self, X):
         """z_2 (the displacement increments) of the laws' nodes at X."""
         if self.local is not None:
