@@ -27,6 +27,7 @@ class PairLaw(Law):
             nodes.append(mesh.left_node(spec.right))
             signs.append(-1.0)
         self.nodes, self.signs = np.array(nodes), np.array(signs)
+        self._terms = list(zip(nodes, signs))
         bodies = case.bodies
         if spec.left is None:
             self.g0 = bodies[spec.right].x[0] - spec.wall
@@ -65,8 +66,14 @@ class PairLaw(Law):
             t["first_contact"] = t0
 
     def gap(self, u):
-        """Gap for the displacements ``u`` of all nodes."""
-        return self.g0 - sum(s * u[n] for n, s in zip(self.nodes, self.signs))
+        """Gap for the displacements ``u`` of all nodes (the signs are +-1,
+        so the products are exact and the sum rounds once)."""
+        terms = self._terms
+        if len(terms) == 1:
+            (n, s), = terms
+            return self.g0 - s * u[n]
+        (n0, s0), (n1, s1) = terms
+        return self.g0 - (s0 * u[n0] + s1 * u[n1])
 
     def static(self, u):
         """(residual (n,), tangent (n, n)) of the pair as a spring of the

@@ -86,6 +86,7 @@ class Coupling:
         # whoever owns the dofs)
         serial = template.getComm().getSize() == 1 and array is not None
         self.local = self.gather.local if serial else None
+        self.local_z2 = None if self.local is None else self.local[1::2].copy()
         self.array = array
 
     def velocities(self, X):
@@ -108,7 +109,7 @@ class Coupling:
     def increments(self, X):
         """z_2 (the displacement increments) of the laws' nodes at X."""
         if self.local is not None:
-            return self.array[self.local[1::2]]
+            return self.array[self.local_z2]
         return self.gather(X)[1::2]
 
 

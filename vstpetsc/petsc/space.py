@@ -88,6 +88,7 @@ class DofGather:
         self.dofs = np.asarray(dofs, dtype=PETSc.IntType)
         self.owned = (self.dofs >= 2 * n0) & (self.dofs < 2 * n1)
         self.local = self.dofs[self.owned] - 2 * n0
+        self.all_owned = bool(self.owned.all())
         self.out = PETSc.Vec().createSeq(self.dofs.size, comm=PETSc.COMM_SELF)
         iset = PETSc.IS().createGeneral(self.dofs, comm=PETSc.COMM_SELF)
         self.scatter = PETSc.Scatter().create(template, iset, self.out, None)
@@ -99,7 +100,7 @@ class DofGather:
 
     def add_rows(self, vec, values):
         """Add ``values`` (one per dof) to the owned entries of ``vec``."""
-        vec.getArray()[self.local] += values[self.owned]
+        vec.getArray()[self.local] += values if self.all_owned else values[self.owned]
 
     def unit(self, vec, j):
         """vec = the unit vector of dof number j."""
