@@ -77,7 +77,8 @@ class NativeNewton:
         self.lawset, self.laws = lawset, lawset.laws
         L = len(self.laws)
         self.S = np.ascontiguousarray(S, dtype=np.float64)
-        self.y0, self.y, self.f = (np.zeros(2 * L) for _ in range(3))
+        self.y0, self.y = np.zeros(2 * L), np.zeros(2 * L)
+        self.f = lawset.f             # the C Newton writes the LawSet's terms itself
         self.gn = np.zeros(L)
         self.w = np.array([law.penalty for law in self.laws], dtype=np.float64)
         self.power = np.array([law.power for law in self.laws], dtype=np.intc)
@@ -102,7 +103,6 @@ class NativeNewton:
 
     def _finish(self, code, slab_index):
         """The outputs of the C Newton into the LawSet and the pairs."""
-        self.lawset.f[:] = self.f
         integrals, hit = self.integrals.tolist(), self.hit.tolist()
         for j, law in enumerate(self.laws):
             law.last = tuple(integrals[6 * j:6 * j + 6]) if hit[j] else None
@@ -120,7 +120,7 @@ class PenaltySlab(NativeNewton):
     as the Python ones, equal to rounding (the products with R0 and S are
     plain loops here, BLAS in numpy)."""
 
-    def __init__(self, lawset, S, R0, **kw):
+    def __init__(self, lawset, S, R0, f_prev, **kw):
         super().__init__(lawset, S, **kw)
         L = len(self.laws)
         node = np.full(2 * L, -1, dtype=np.intc)
@@ -132,17 +132,18 @@ class PenaltySlab(NativeNewton):
         self.g0 = np.array([law.g0 for law in self.laws], dtype=np.float64)
         self.R0 = np.ascontiguousarray(R0, dtype=np.float64)
         self.xE = np.zeros(self.R0.shape[1])
-        self.f_prev, self.work = np.zeros(2 * L), np.zeros(L)
+        # the caller's terms of the previous slab, read in place
+        self.f_prev, self.work = f_prev, np.zeros(L)
         self.u = lawset.u                      # updated in place by the LawSolver
         self.slab = _Slab(lawset.nodes.size, 0, *(a.ctypes.data for a in (
             self.u, node, sign, self.g0, self.R0, self.xE, self.f_prev, self.work)), 0)
         self.slab_ref = ctypes.addressof(self.slab)
 
-    def run(self, f_prev, acted, slab_index):
-        """Solve the slab for the unknowns in ``xE`` (filled by the caller):
-        whether a pair acts; the LawSet's ``f``, the pairs' ``last``
-        integrals, ``y`` and ``work`` are then the slab's."""
-        self.f_prev[:] = f_prev
+    def run(self, acted, slab_index):
+        """Solve the slab for the unknowns in ``xE`` (filled by the caller)
+        from the terms ``f_prev`` of the previous slab: whether a pair
+        acts; the LawSet's ``f``, the pairs' ``last`` integrals, ``y`` and
+        ``work`` are then the slab's."""
         self.slab.acted = int(acted)
         code = self.lib.vst_penalty_slab(self.ref, self.slab_ref)
         for law, gap in zip(self.laws, self.gn.tolist()):     # the pairs' start_slab

@@ -68,7 +68,7 @@ class LawSolver:
                     native.takes(self.laws.laws):
                 # the whole slab of the pairs in one compiled call
                 self.newton = native.PenaltySlab(self.laws, self.coupling.S_red,
-                                                 self.coupling.R0, **tolerances)
+                                                 self.coupling.R0, self.f, **tolerances)
             else:
                 self.newton = kind(self.laws, self.coupling.S_red, **tolerances)
 
@@ -107,7 +107,7 @@ class LawSolver:
         guess, Newton and work (:class:`vstpetsc.native.PenaltySlab`)."""
         step = self.newton
         self.coupling.unknowns(X, step.xE)
-        if not step.run(self.f, self.acted, slab_index):
+        if not step.run(self.acted, slab_index):
             self.acted = False
             return 0
         self.influence.subtract(step.f)
