@@ -60,7 +60,6 @@ class LawSolver:
                                         space.comm.getRank())
         else:
             opts = PETSc.Options()
-            kind = ManyLawNewton if len(self.laws.laws) > MANY else ReducedNewton
             tolerances = dict(rtol=opts.getReal(PREFIX + "snes_rtol", 1e-12),
                               atol=opts.getReal(PREFIX + "snes_atol", 1e-50),
                               max_it=opts.getInt(PREFIX + "snes_max_it", 30))
@@ -70,6 +69,7 @@ class LawSolver:
                 self.newton = native.PenaltySlab(self.laws, self.coupling.S_red,
                                                  self.coupling.R0, self.f, **tolerances)
             else:
+                kind = ManyLawNewton if len(self.laws.laws) > MANY else ReducedNewton
                 self.newton = kind(self.laws, self.coupling.S_red, **tolerances)
 
     def solve(self, X, b, dt, slab_index):
