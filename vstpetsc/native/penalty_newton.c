@@ -406,9 +406,11 @@ int vst_penalty_slab(Newton *c, Slab *s)
         any = closed_somewhere(a0, a1, a2);
     }
     s->ran = any;
-    if (!any) {
+    if (!any) {                /* the pairs give nothing (LawSet.evaluate at y0) */
         for (int j = 0; j < L; j++)
             c->hit[j] = 0;
+        for (int i = 0; i < n; i++)
+            c->f[i] = 0.0;
         return 0;
     }
     if (s->acted)
