@@ -54,8 +54,7 @@ class ReducedNewton:
                 break
             y, outs, r, sf, norm = self._line(y, y0, step, norm)
         self._keep(outs)
-        raise SolveFailed(f"slab {slab_index}: Newton did not converge (DIVERGED_MAX_IT "
-                          f"after {self.max_it} Newton iterations, residual {norm:.3g})")
+        raise not_converged(slab_index, self.max_it, norm)
 
     def _residual(self, y, y0):
         """(the laws' outputs, r, max |S f|) at y."""
@@ -125,6 +124,12 @@ class ReducedNewton:
         f = self.lawset.f
         for j, out in enumerate(outs):
             f[2 * j], f[2 * j + 1] = (0.0, 0.0) if out is None else (out[0], out[1])
+
+
+def not_converged(slab_index, max_it, norm):
+    """The error of a plain Newton that stopped short (Python or compiled)."""
+    return SolveFailed(f"slab {slab_index}: Newton did not converge (DIVERGED_MAX_IT "
+                       f"after {max_it} Newton iterations, residual {norm:.3g})")
 
 
 def _tangent(outs, b, c):

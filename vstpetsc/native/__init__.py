@@ -17,7 +17,7 @@ import os
 
 import numpy as np
 
-from vstpetsc.errors import SolveFailed
+from vstpetsc.reduced_newton import not_converged
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LIBRARY = os.path.join(HERE, "libvstnative.so")
@@ -85,7 +85,7 @@ class NativeNewton:
         self.out, self.integrals = np.zeros(6 * L), np.zeros(6 * L)
         self.hit = np.zeros(L, dtype=np.intc)
         self.max_it = max_it
-        self.ctx = _Newton(L, max_it, rtol, atol, lawset.laws[0].dt if L else 0.0,
+        self.ctx = _Newton(L, max_it, rtol, atol, lawset.laws[0].dt,
                            *(a.ctypes.data for a in (self.S, self.y0, self.y, self.gn, self.w,
                                                      self.power, self.f, self.out,
                                                      self.integrals, self.hit)), 0, 0.0)
@@ -107,9 +107,7 @@ class NativeNewton:
         for j, law in enumerate(self.laws):
             law.last = tuple(integrals[6 * j:6 * j + 6]) if hit[j] else None
         if code != 0:
-            raise SolveFailed(f"slab {slab_index}: Newton did not converge (DIVERGED_MAX_IT "
-                              f"after {self.max_it} Newton iterations, residual "
-                              f"{self.ctx.norm:.3g})")
+            raise not_converged(slab_index, self.max_it, self.ctx.norm)
         self.iterations = self.ctx.iterations
         return self.y
 

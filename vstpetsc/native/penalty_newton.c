@@ -94,12 +94,22 @@ static int roots01(double a0, double a1, double a2, double *r)
     return k;
 }
 
+/* vstpetsc.laws.gap.gap_coefficients: g(theta) = a[0] + a[1] theta + a[2] theta^2 */
+static void gap_coefficients(double gn, double d1, double d2, double dt, double *a)
+{
+    a[0] = gn;
+    a[1] = -dt * d1;
+    a[2] = 0.5 * dt * (d1 - d2);
+}
+
 /* vstpetsc.laws.gap.pair_integrals: 1 and G[6] when the pair acts, else 0 */
 static int pair_integrals(double gn, double d1, double d2, double dt, int power, double *G)
 {
     /* sqrt(0.6): Python's repr of math.sqrt(0.6), which parses to the same double */
     static const double SQ = 0.7745966692414834;
-    double a0 = gn, a1 = -dt * d1, a2 = 0.5 * dt * (d1 - d2);
+    double a[3];
+    gap_coefficients(gn, d1, d2, dt, a);
+    double a0 = a[0], a1 = a[1], a2 = a[2];
     if (closed_throughout(a0, a1, a2)) {
         if (power) {
             double w = dt * dt;
@@ -387,11 +397,10 @@ int vst_penalty_slab(Newton *c, Slab *s)
     if (L < 1 || n > MAX_ROWS)
         return 2;
     for (int j = 0; j < L; j++) {
-        double moved = 0.0;
-        for (int a = 0; a < 2; a++)
-            if (s->node[2 * j + a] >= 0)
-                moved = a == 0 ? s->sign[2 * j] * s->u[s->node[2 * j]]
-                               : moved + s->sign[2 * j + 1] * s->u[s->node[2 * j + 1]];
+        /* PairLaw.start_slab: g0 - signs . u (every pair has a first node) */
+        double moved = s->sign[2 * j] * s->u[s->node[2 * j]];
+        if (s->node[2 * j + 1] >= 0)
+            moved += s->sign[2 * j + 1] * s->u[s->node[2 * j + 1]];
         c->gn[j] = s->g0[j] - moved;
     }
     for (int i = 0; i < n; i++) {
@@ -400,17 +409,16 @@ int vst_penalty_slab(Newton *c, Slab *s)
             y += s->R0[i * k2 + m] * s->xE[m];
         c->y0[i] = y;
     }
-    for (int j = 0; j < L && !any; j++) {
-        double a0 = c->gn[j], a1 = -c->dt * c->y0[2 * j];
-        double a2 = 0.5 * c->dt * (c->y0[2 * j] - c->y0[2 * j + 1]);
-        any = closed_somewhere(a0, a1, a2);
+    for (int j = 0; j < L && !any; j++) {          /* LawSet.acts */
+        double a[3];
+        gap_coefficients(c->gn[j], c->y0[2 * j], c->y0[2 * j + 1], c->dt, a);
+        any = closed_somewhere(a[0], a[1], a[2]);
     }
     s->ran = any;
     if (!any) {                /* the pairs give nothing (LawSet.evaluate at y0) */
         for (int j = 0; j < L; j++)
             c->hit[j] = 0;
-        for (int i = 0; i < n; i++)
-            c->f[i] = 0.0;
+        keep(c);
         return 0;
     }
     if (s->acted)

@@ -51,18 +51,15 @@ class LawInfluence:
         n0, n1 = space.nodes
         first = 2 * n0
         arrays = [z.getArray() for z in Zred]
-        laws = len(Zred) // 2
-        local = np.array([nonzero_span(arrays[2 * j:2 * j + 2], first) for j in range(laws)],
-                         dtype=np.int64).reshape(-1, 2)
-        lo, hi = np.ascontiguousarray(local[:, 0]), np.ascontiguousarray(local[:, 1])
-        if space.comm.getSize() > 1:
+        spans = [nonzero_span(arrays[c:c + 2], first) for c in range(0, len(Zred), 2)]
+        starts, ends = (np.array(s, dtype=np.int64) for s in zip(*spans))
+        if space.comm.getSize() > 1:          # the spans over the whole vector
             from mpi4py import MPI
             mpi = space.comm.tompi4py()
-            mpi.Allreduce(MPI.IN_PLACE, lo, op=MPI.MIN)
-            mpi.Allreduce(MPI.IN_PLACE, hi, op=MPI.MAX)
-        spans = np.column_stack([lo, hi])
+            mpi.Allreduce(MPI.IN_PLACE, starts, op=MPI.MIN)
+            mpi.Allreduce(MPI.IN_PLACE, ends, op=MPI.MAX)
         self.groups = []
-        for lo, hi, members in groups_of([tuple(s) for s in spans]):
+        for lo, hi, members in groups_of(list(zip(starts.tolist(), ends.tolist()))):
             a, b = max(lo, first) - first, min(hi, 2 * n1) - first
             if b <= a:
                 continue

@@ -52,7 +52,6 @@ class LawSolver:
         self.coupling = Coupling(self.laws, solver.X, space.nodes, solver.W, solver.V,
                                  solver.linear, solver.carry, solver.x)
         self.influence = LawInfluence(self.coupling.Zred, solver.x, space)
-        self.rhs = solver.br           # the running right-hand side's array
         if options.newton == "full":
             self.newton = Full(self.coupling, options.fd_jacobian, solver.A, solver.linear,
                                space)
@@ -121,14 +120,9 @@ class LawSolver:
     def advance(self, X, b):
         """Close the slab: the laws' displacements, their terms carried over
         in the running sum b."""
-        coupling = self.coupling
-        self.laws.u += coupling.increments(X)
+        self.laws.u += self.coupling.increments(X)
         if self.acted:
-            carried = coupling.carry_rows @ self.f
-            if coupling.local is not None:      # one rank: straight into b's array
-                self.rhs[coupling.local] += carried
-            else:
-                coupling.gather.add_rows(b, carried)
+            self.coupling.gather.add_rows(b, self.coupling.carry_rows @ self.f)
             if self.heads:
                 self._transfer(X)
 

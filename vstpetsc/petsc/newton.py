@@ -95,16 +95,17 @@ class Coupling:
 
     def coordinates(self, X):
         """The reduced coordinates y at X (on every rank)."""
-        if self.local is not None:           # one rank: read X directly
-            return self.R0 @ self.array[self.local]
-        return self.R0 @ self.gather(X)
+        return self.R0 @ self.unknowns(X)
 
-    def unknowns(self, X, out):
-        """The unknowns z at the laws' dofs into ``out`` (on every rank)."""
-        if self.local is not None:
-            np.take(self.array, self.local, out=out)
-        else:
-            out[:] = self.gather(X)
+    def unknowns(self, X, out=None):
+        """The unknowns z at the laws' dofs (into ``out`` when given), on
+        every rank."""
+        if self.local is not None:           # one rank: read X directly
+            return np.take(self.array, self.local, out=out)
+        if out is None:
+            return self.gather(X)
+        out[:] = self.gather(X)
+        return out
 
     def increments(self, X):
         """z_2 (the displacement increments) of the laws' nodes at X."""
