@@ -10,8 +10,9 @@ DEBS  := python3-petsc4py python3-mpi4py python3-h5py python3-numpy python3-scip
          python3-matplotlib python3-pytest python3-hypothesis python3-venv \
          python3-setuptools python3-pip libpetsc-real3.18-dev openmpi-bin gcc libc6-dev
 STAMP := $(VENV)/.installed
-# the compiled Newton for penalty pairs (vstpetsc/native); no fused
-# multiply-adds, so that it repeats the Python Newton's arithmetic
+# the compiled kernels (vstpetsc/native: the Newton for penalty pairs, the
+# end of a slab); no fused multiply-adds, so that they repeat the Python
+# path's arithmetic
 NATIVE := vstpetsc/native/libvstnative.so
 
 # OpenMPI refuses root without these; oversubscribe lets 2 ranks share 1 core.
@@ -24,8 +25,8 @@ export MPLBACKEND := agg
 
 install: $(STAMP) $(NATIVE)
 
-$(NATIVE): vstpetsc/native/penalty_newton.c $(STAMP)
-	gcc -O2 -fPIC -shared -ffp-contract=off -Wall -Wextra -o $@ $< -lm
+$(NATIVE): $(wildcard vstpetsc/native/*.c) $(STAMP)
+	gcc -O2 -fPIC -shared -ffp-contract=off -Wall -Wextra -o $@ $(filter %.c,$^) -lm
 
 $(STAMP): pyproject.toml
 	@missing=$$(for p in $(DEBS); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \

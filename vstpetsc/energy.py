@@ -29,10 +29,14 @@ class EnergyBook:
         self.sprung = ops.sprung
         self._v = None
 
-    def state(self, u, v, d=None):
+    def state(self, u, v, d=None, known=None):
         """Kinetic 1/2 v^T M v, strain 1/2 u^T K u = sum 1/2 (E A / h) d^2
         over the elements (d: the elongations u_{i+1} - u_i, from u when
-        None) and spring energy."""
+        None) and spring energy; ``known`` (kinetic, strain) when the
+        solver summed them already."""
+        spring = model_mod.spring_energy(self.model.ops, u) if self.sprung else 0.0
+        if known is not None:
+            return {"kinetic": known[0], "strain": known[1], "spring": spring}
         sq, pr = self.squares, self.products
         np.multiply(v, v, out=sq)
         kinetic = 0.5 * float(self.m_diag.dot(sq))
@@ -43,7 +47,6 @@ class EnergyBook:
         if d is None:
             d = np.subtract(u[1:], u[:-1], out=pr)
         np.multiply(d, d, out=pr)
-        spring = model_mod.spring_energy(self.model.ops, u) if self.sprung else 0.0
         return {"kinetic": kinetic, "strain": 0.5 * float(self.stiffness.dot(pr)),
                 "spring": spring}
 
@@ -60,11 +63,11 @@ class EnergyBook:
         self.initial = sum(float(first[k]) for k in ("kinetic", "strain", "spring", "contact"))
         self.offset = {k: float(last[k]) for k in SUMMED}
 
-    def row(self, u, v, totals, d=None):
-        """{energy dataset: value} for the state (u, v) (d: elongations, see
+    def row(self, u, v, totals, d=None, known=None):
+        """{energy dataset: value} for the state (u, v) (d, known: see
         :meth:`state`) and the solver's sums ``totals`` since this run
         started."""
-        out = self.state(u, v, d)
+        out = self.state(u, v, d, known)
         for key in SUMMED:
             out[key] = self.offset[key] + totals.get(key, 0.0)
         held = (out["kinetic"] + out["strain"] + out["spring"] + out["damping"]

@@ -30,7 +30,8 @@ class StressEnvelope:
         self.factor[self.pair] = (mesh.E / mesh.h)[el]
         self.buf = np.empty(max(npairs, 0))
         self.ext = np.empty(n1 - n0 + 1) if self.ghost else None
-        self.lo = self.hi = None
+        # filled in place, so that compiled code may hold them
+        self.lo, self.hi = np.empty_like(self.buf), np.empty_like(self.buf)
         self._u = None
 
     def elongation(self, u, ghost=0.0):
@@ -48,7 +49,8 @@ class StressEnvelope:
         """Begin with u (or continue ``restored`` elongation envelopes
         (lo, hi) of the local elements, from a result file)."""
         d = self.elongation(u, ghost)
-        self.lo, self.hi = d.copy(), d.copy()
+        self.lo[:] = d
+        self.hi[:] = d
         if restored is not None:
             self.lo[self.pair], self.hi[self.pair] = restored
 

@@ -116,7 +116,7 @@ class Recorder:
         if self.rank0:
             u, v = state
             d = self.solver.elongation()
-            energy = self.energy.row(u, v, totals, d)
+            energy = self.energy.row(u, v, totals, d, self.solver.state_energies())
             buffers, i = self.writer.slot()
             self.rows.fill(buffers, i, k, u, v, its, time.perf_counter() - self.start, energy, d)
         if self.space.max_over_ranks(int(self.rank0 and self.writer.due())):

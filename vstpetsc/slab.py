@@ -160,27 +160,35 @@ def recurrence(dt):
     return w, v, gm[0, 0], gk[1, 1]
 
 
-def increment_rows(ops, dt, n0, n1):
-    """CSR arrays (indptr, indices, data) of the running-sum increment, dof
-    rows of nodes n0..n1-1: row 2i holds gm (M + dt/6 C)_ij on columns 2j,
-    row 2i+1 holds gk (K + S)_ij on columns 2j+1 (j = i-1, i, i+1), three
-    entries a row (zeros between bodies kept).  Built directly, without the
-    2 x 2 blocks, to keep the set-up memory small.
+def increment_bands(ops, dt, n0, n1):
+    """The rows of the running-sum increment G of nodes n0..n1-1 as bands
+    (nl, 2, 3): [i, 0] holds gm (M + dt/6 C)_ij on the z_1 of nodes
+    j = i-1, i, i+1, [i, 1] gk (K + S)_ij on their z_2; entries outside
+    the mesh are zero.
 
     Damping enters the first rows only: (T - I) dt HC = (dt / 6) (T - I) HM
     + ... has the pattern of XM (docs/loads.md section 3)."""
     _, _, gm, gk = recurrence(dt)
-    n = ops.m_diag.size
     nodes = np.arange(n0, n1)
-    cols = nodes[:, None] + np.array([-1, 0, 1])                       # (nl, 3)
-    valid = (cols >= 0) & (cols < n)
     pad = np.zeros(1)
     (md, mo), (kd, ko) = bands(ops, "m"), bands(ops, "k")
     if ops.damped:
         md, mo = md + dt / 6.0 * ops.c_diag, mo + dt / 6.0 * ops.c_off
     m = np.column_stack([np.r_[pad, mo][nodes], md[nodes], np.r_[mo, pad][nodes]])
     k = np.column_stack([np.r_[pad, ko][nodes], kd[nodes], np.r_[ko, pad][nodes]])
-    data = np.stack([gm * m, gk * k], axis=1)                          # (nl, 2, 3)
+    return np.stack([gm * m, gk * k], axis=1)
+
+
+def increment_rows(ops, dt, n0, n1):
+    """CSR arrays (indptr, indices, data) of the running-sum increment
+    (:func:`increment_bands`), dof rows of nodes n0..n1-1: row 2i holds
+    the first band on columns 2j, row 2i+1 the second on columns 2j+1,
+    three entries a row (zeros between bodies kept).  Built directly,
+    without the 2 x 2 blocks, to keep the set-up memory small."""
+    n = ops.m_diag.size
+    cols = np.arange(n0, n1)[:, None] + np.array([-1, 0, 1])          # (nl, 3)
+    valid = (cols >= 0) & (cols < n)
+    data = increment_bands(ops, dt, n0, n1)                            # (nl, 2, 3)
     dofs = 2 * cols[:, None, :] + np.arange(2)[None, :, None]
     mask = np.broadcast_to(valid[:, None, :], data.shape)
     indptr = np.concatenate(([0], np.cumsum(mask.sum(axis=2).ravel())))

@@ -55,6 +55,9 @@ def library():
             lib.vst_penalty_newton.restype = ctypes.c_int
             lib.vst_penalty_slab.argtypes = [_P, _P]
             lib.vst_penalty_slab.restype = ctypes.c_int
+            for name in ("vst_close_state", "vst_band_add"):
+                getattr(lib, name).argtypes = [_P]
+                getattr(lib, name).restype = None
         _loaded.append(lib)
     return _loaded[0]
 

@@ -108,8 +108,9 @@ class SolverOptions:
     - ``-vst_ownership n0,n1,...``: nodes per rank (the DMDA layout);
     - ``-vst_flush_interval SECONDS``: the longest wall time between two
       blocks of rows written to the result file (0: every kept row);
-    - ``-vst_native 0``: the Python Newton for penalty pairs instead of
-      the compiled one (:mod:`vstpetsc.native`; the same answer).
+    - ``-vst_native 0``: the Python path instead of the compiled kernels
+      (:mod:`vstpetsc.native`: the Newton for penalty pairs, the end of a
+      slab on one rank; the same answer to rounding).
     """
 
     mat_type: str = "baij"

@@ -21,6 +21,7 @@ from vstpetsc import slab
 from vstpetsc.envelope import StressEnvelope
 from vstpetsc.errors import SolveFailed
 from vstpetsc.loading import SlabLoads
+from vstpetsc.native.closing import SlabClose
 from vstpetsc.petsc.fields import FieldTerms
 from vstpetsc.petsc.law_solver import LawSolver
 from vstpetsc.petsc.linear import LinearSolver
@@ -74,8 +75,8 @@ class SlabSolver:
         self.b, self.br = self.space.array_vector()   # W r: the running right-hand side
         self.v = np.zeros(n1 - n0)      # v^2 of the owned nodes, formed for output
         self._z, self._V1 = self.x.reshape(-1, 2), self.V[1].copy()
+        self._v2 = np.zeros(n1 - n0)
         self.serial = comm.getSize() == 1
-        self.G = Increment(ops, dt, self.space, self.b)
         self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
         self._loads = None              # (local dofs, -W T f, f) of the open slab
         self._row_cache = {}
@@ -85,6 +86,9 @@ class SlabSolver:
             Reactions(self.space, ops, dt, self.W, self.V, loads.fixed_nodes)
         self.damping = DampingWork(self.space, ops, dt, self.V, options.mat_type)
         self.envelope = StressEnvelope(model.mesh, nodes)
+        # one rank: the slab's end in compiled code, G's product included
+        self.closing = SlabClose.of(self, ops, options.native)
+        self.G = None if self.closing else Increment(ops, dt, self.space, self.b)
         self.ghost = DofGather(self.X, [2 * n1 + 1] if self.envelope.ghost else [], nodes)
         self.u_ghost = 0.0
         self.nonlinear = LawSolver(model, options, self)
@@ -144,16 +148,17 @@ class SlabSolver:
         minus the force terms, u += z_2 (slab.recurrence)."""
         self._slab_work()
         # u first: the end of the backward sweep left z in cache
-        np.add(self.u, self.x[1::2], out=self.u)
-        if self.space.comm.getSize() > 1:       # collective, also without a ghost
-            ghost = self.ghost(self.X)
-            if self.envelope.ghost:
-                self.u_ghost += ghost[0]
-        self.envelope.update(self.u, self.u_ghost)
+        if self.closing:
+            self.closing.state()
+        else:
+            self._close_state()
         arr = self.br
         if self.reactions is not None:
             self.reactions.carry(arr)
-        self.G.add_to(self.X, self.b)
+        if self.closing:
+            self.closing.add_increment()
+        else:
+            self.G.add_to(self.X, self.b)
         if self._loads is not None:
             arr[self._loads[0]] += self._loads[1]
             self._loads = None
@@ -162,6 +167,15 @@ class SlabSolver:
             self.reactions.carry_after(arr)
         if self.nonlinear.active:
             self.nonlinear.advance(self.X, self.b)
+
+    def _close_state(self):
+        """u += z_2 and the envelopes (what SlabClose does on one rank)."""
+        np.add(self.u, self.x[1::2], out=self.u)
+        if not self.serial:                     # collective, also without a ghost
+            ghost = self.ghost(self.X)
+            if self.envelope.ghost:
+                self.u_ghost += ghost[0]
+        self.envelope.update(self.u, self.u_ghost)
 
     def _slab_work(self):
         """Dashpots and external forces over the slab (the laws' share is
@@ -217,7 +231,13 @@ class SlabSolver:
         """(u, v) of all nodes on rank 0 (None elsewhere); v = v^2 of the
         last slab.  On one rank these are the solver's own arrays, valid
         until the next slab."""
-        np.matmul(self._z, self._V1, out=self.v)
+        if not self.closing:                    # else v is the last close's
+            # v = z_1 V_1[0] + z_2 V_1[1] in two ufuncs, not BLAS (which may
+            # fuse the multiply-add), so that every path has the same bits
+            z, V1 = self._z, self._V1
+            np.multiply(z[:, 0], V1[0], out=self.v)
+            np.multiply(z[:, 1], V1[1], out=self._v2)
+            np.add(self.v, self._v2, out=self.v)
         if self.serial:
             return self.u, self.v
         y = self.y.reshape(-1, 2)
@@ -225,6 +245,11 @@ class SlabSolver:
         y[:, 1] = self.v
         y = self.space.to_rank0(self.Y)
         return None if y is None else (y[0::2].copy(), y[1::2].copy())
+
+    def state_energies(self):
+        """(kinetic, strain) energy after the last slab when the compiled
+        close summed them (None: the EnergyBook sums them)."""
+        return self.closing.energies() if self.closing else None
 
     def elongation(self):
         """u_{i+1} - u_i of every node pair after the last slab, on one rank
