@@ -7,6 +7,7 @@ import io
 import os
 import signal
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -256,3 +257,43 @@ def test_restart_of_a_file_from_another_version_is_refused(tmp_path):
     p = cli("run", case, "--restart", out, "--quiet")
     assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
     assert "has no energy/transferred" in p.stderr and out.read_bytes() == before
+
+
+INJECTED_FAILURE = """
+import sys
+from vstpetsc import cli
+from vstpetsc.results import writer
+
+calls = []
+append = writer._append
+
+
+def failing(*args):
+    calls.append(1)
+    if len(calls) > {after}:
+        raise OSError("injected write error")
+    return append(*args)
+
+
+writer._append = failing
+sys.exit(cli.main(sys.argv[1:]))
+"""
+
+
+def test_a_block_failing_on_the_writer_thread(tmp_path):
+    """An HDF5 error while a block is written on the thread
+    (results/blocks.py): one line naming the last slab the file keeps,
+    exit 3, and the file holds every slab up to it."""
+    case = write_case(tmp_path, make_case(0.01, 0.6, [bar("a", (0.0, 1.0), 10, v0=1.0)]))
+    out = tmp_path / "r.h5"
+    script = tmp_path / "failing.py"
+    script.write_text(INJECTED_FAILURE.format(after=200))
+    p = subprocess.run([sys.executable, str(script), "run", str(case), "-o", str(out),
+                        "--quiet", "-vst_flush_interval", "0"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 3 and faults.one_clean_line(p.stderr), p.stderr
+    assert "injected write error" in p.stderr
+    kept = int(p.stderr.split("up to slab ")[1].split()[0])
+    r = Result(out)
+    assert 0 < kept < 60 and int(r.solver["slab"][-1]) == kept and r.time.size == kept + 1
+    assert r.status == "killed"     # HDF5 failed: left unclosed, read as after a kill

@@ -25,9 +25,10 @@ class _Close(ctypes.Structure):
 
 
 class SlabClose:
-    """The compiled end of a slab for ``solver`` (a SlabSolver on one rank):
-    it updates the solver's own arrays in place (u, v, the envelope's
-    elongations and bounds, b)."""
+    """The compiled end of a slab for ``solver`` (a SlabSolver on one rank),
+    :class:`vstpetsc.petsc.slab_end.SlabEnd`'s methods: it updates the
+    solver's own arrays in place (u, v, the envelope's elongations and
+    bounds, b)."""
 
     def __init__(self, lib, solver, ops):
         n = ops.m_diag.size
@@ -60,6 +61,9 @@ class SlabClose:
     def add_increment(self):
         """b += G z."""
         self._band()
+
+    def velocities(self):
+        """Nothing: v is formed by every close."""
 
     def energies(self):
         """(kinetic, strain) energy at the end of the last closed slab."""

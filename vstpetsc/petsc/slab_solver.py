@@ -25,9 +25,10 @@ from vstpetsc.native.closing import SlabClose
 from vstpetsc.petsc.fields import FieldTerms
 from vstpetsc.petsc.law_solver import LawSolver
 from vstpetsc.petsc.linear import LinearSolver
-from vstpetsc.petsc.matrices import Increment, block_matrix
+from vstpetsc.petsc.matrices import block_matrix
 from vstpetsc.petsc.reactions import Reactions
-from vstpetsc.petsc.space import DofGather, Space
+from vstpetsc.petsc.slab_end import SlabEnd
+from vstpetsc.petsc.space import Space
 from vstpetsc.petsc.work import DampingWork
 
 
@@ -74,8 +75,6 @@ class SlabSolver:
         self.X, self.x = self.space.array_vector()    # slab unknowns z per node
         self.b, self.br = self.space.array_vector()   # W r: the running right-hand side
         self.v = np.zeros(n1 - n0)      # v^2 of the owned nodes, formed for output
-        self._z, self._V1 = self.x.reshape(-1, 2), self.V[1].copy()
-        self._v2 = np.zeros(n1 - n0)
         self.serial = comm.getSize() == 1
         self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
         self._loads = None              # (local dofs, -W T f, f) of the open slab
@@ -86,11 +85,9 @@ class SlabSolver:
             Reactions(self.space, ops, dt, self.W, self.V, loads.fixed_nodes)
         self.damping = DampingWork(self.space, ops, dt, self.V, options.mat_type)
         self.envelope = StressEnvelope(model.mesh, nodes)
-        # one rank: the slab's end in compiled code, G's product included
-        self.closing = SlabClose.of(self, ops, options.native)
-        self.G = None if self.closing else Increment(ops, dt, self.space, self.b)
-        self.ghost = DofGather(self.X, [2 * n1 + 1] if self.envelope.ghost else [], nodes)
         self.u_ghost = 0.0
+        # one rank: the slab's end in compiled code, G's product included
+        self.end = SlabClose.of(self, ops, options.native) or SlabEnd(self, ops)
         self.nonlinear = LawSolver(model, options, self)
         self.laws = self.nonlinear.laws
         self.work = {"damping": 0.0}       # sums, the same on every rank
@@ -148,17 +145,11 @@ class SlabSolver:
         minus the force terms, u += z_2 (slab.recurrence)."""
         self._slab_work()
         # u first: the end of the backward sweep left z in cache
-        if self.closing:
-            self.closing.state()
-        else:
-            self._close_state()
+        self.end.state()
         arr = self.br
         if self.reactions is not None:
             self.reactions.carry(arr)
-        if self.closing:
-            self.closing.add_increment()
-        else:
-            self.G.add_to(self.X, self.b)
+        self.end.add_increment()
         if self._loads is not None:
             arr[self._loads[0]] += self._loads[1]
             self._loads = None
@@ -167,15 +158,6 @@ class SlabSolver:
             self.reactions.carry_after(arr)
         if self.nonlinear.active:
             self.nonlinear.advance(self.X, self.b)
-
-    def _close_state(self):
-        """u += z_2 and the envelopes (what SlabClose does on one rank)."""
-        np.add(self.u, self.x[1::2], out=self.u)
-        if not self.serial:                     # collective, also without a ghost
-            ghost = self.ghost(self.X)
-            if self.envelope.ghost:
-                self.u_ghost += ghost[0]
-        self.envelope.update(self.u, self.u_ghost)
 
     def _slab_work(self):
         """Dashpots and external forces over the slab (the laws' share is
@@ -231,13 +213,7 @@ class SlabSolver:
         """(u, v) of all nodes on rank 0 (None elsewhere); v = v^2 of the
         last slab.  On one rank these are the solver's own arrays, valid
         until the next slab."""
-        if not self.closing:                    # else v is the last close's
-            # v = z_1 V_1[0] + z_2 V_1[1] in two ufuncs, not BLAS (which may
-            # fuse the multiply-add), so that every path has the same bits
-            z, V1 = self._z, self._V1
-            np.multiply(z[:, 0], V1[0], out=self.v)
-            np.multiply(z[:, 1], V1[1], out=self._v2)
-            np.add(self.v, self._v2, out=self.v)
+        self.end.velocities()
         if self.serial:
             return self.u, self.v
         y = self.y.reshape(-1, 2)
@@ -249,7 +225,7 @@ class SlabSolver:
     def state_energies(self):
         """(kinetic, strain) energy after the last slab when the compiled
         close summed them (None: the EnergyBook sums them)."""
-        return self.closing.energies() if self.closing else None
+        return self.end.energies()
 
     def elongation(self):
         """u_{i+1} - u_i of every node pair after the last slab, on one rank

@@ -26,6 +26,7 @@ import numpy as np
 from vstpetsc import __version__
 from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.results import layout
+from vstpetsc.results.blocks import BlockThread
 from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
 
 BUFFER_VALUES = 1 << 21          # doubles per series buffer (16 MB)
@@ -54,6 +55,7 @@ class GaugeStream:
         self.ids = [f[name].id for name in names]
         self.n = f[names[0]].shape[0]
         self.buffer = _touched((BUFFER_ROWS, len(names)), np.float64)
+        self.spare = _touched((BUFFER_ROWS, len(names)), np.float64)   # in flight
         self.pending = 0
 
     @classmethod
@@ -74,11 +76,19 @@ class GaugeStream:
         """Bytes the next write may take, whole chunks included."""
         return (self.pending + 4096) * 8 * len(self.ids)
 
-    def write(self):
-        k, n = self.pending, self.n
+    def take(self):
+        """(rows, count) of the filled buffer for :meth:`write`; the next
+        rows go to the other buffer."""
+        rows, k = self.buffer, self.pending
+        self.buffer, self.spare, self.pending = self.spare, rows, 0
+        return rows, k
+
+    def write(self, block):
+        """Append a block of :meth:`take` to the datasets."""
+        rows, k = block
         for j, dsid in enumerate(self.ids if k else ()):
-            _append(dsid, n, self.buffer[:k, j])
-        self.n, self.pending = n + k, 0
+            _append(dsid, self.n, rows[:k, j])
+        self.n += k
 
     def truncate(self, rows):
         """Drop rows after the first ``rows`` (a restart from an earlier slab)."""
@@ -130,6 +140,8 @@ class ResultWriter:
         self.f, self.lock, self.interval = f, lock, interval
         self.reserve = DiskReserve(fd)
         self.series, self.buffers = {}, {}
+        self.spare = {}                          # the buffers of the block in flight
+        self.thread = BlockThread()
         self.snapshots = Snapshots(f)
         self.capacity = None
         self.n = self.f[layout.TIME].shape[0]   # rows in the file
@@ -158,6 +170,7 @@ class ResultWriter:
             if self.gauges:
                 self.gauges.slot()[:] = [first_row[n] for n in self.gauges.names]
             self.flush(snapshots, 0)
+            self.settle()
             lock.publish(fd)
         except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
             hdf5_failed = (self.broken if self is not None else
@@ -192,22 +205,6 @@ class ResultWriter:
             raise InputError(f"--restart: cannot append to {path}: {_reason(exc)}") from None
         return self
 
-    def _track(self):
-        """Buffers and low-level handles of every series (h5py's high-level
-        resize and item assignment cost ~200 us a call)."""
-        for name, ds in _series_of(self.f):
-            if layout.every_slab(name):
-                continue
-            tail = ds.shape[1:]
-            width = max(1, int(np.prod(tail)))
-            rows = max(1, min(BUFFER_ROWS, BUFFER_VALUES // width))
-            chunk = (ds.chunks[0], int(np.prod(ds.chunks)) * ds.dtype.itemsize)
-            self.series[name] = (ds.id, tail, chunk)
-            # zeros, not empty: the pages are touched here, in the set-up,
-            # not one by one as rows arrive (a page fault costs ~1 us)
-            self.buffers[name] = _touched((rows,) + tail, ds.dtype)
-            self.capacity = min(rows, self.capacity or rows)
-
     def append(self, row):
         """Buffer one kept row; ``row`` maps every series name to its value."""
         buffers, i = self.slot()
@@ -218,7 +215,7 @@ class ResultWriter:
         """(buffers {series name: array}, i): the caller fills row i of every
         buffer (the next kept row)."""
         if not self.series:
-            self._track()
+            self.series, self.buffers, self.spare, self.capacity = _track(self.f)
         i = self.pending
         self.pending = i + 1
         return self.buffers, i
@@ -232,47 +229,66 @@ class ResultWriter:
 
     def flush(self, snapshots=None, slab=None, gauges_only=False):
         """Write the buffered rows and ``snapshots`` ({name: array}, state
-        at the last row, slab number ``slab``), then flush HDF5; with
-        ``gauges_only`` the gauge rows alone (a full gauge buffer between
-        kept rows)."""
-        snapshots = snapshots or {}
+        at the last row, slab number ``slab``), then flush HDF5: on a
+        thread (:mod:`~vstpetsc.results.blocks`), after the block before
+        it, whose failure is raised here; with ``gauges_only`` the gauge
+        rows alone, at once (a full gauge buffer between kept rows)."""
+        self.settle()
+        # copies: the run goes on while the thread writes them
+        snapshots = {name: np.array(data, dtype=np.float64)
+                     for name, data in (snapshots or {}).items()}
         try:
-            # HDF5 allocates whole chunks, each when its first row is written
-            n, k = self.n, self.pending
-            need = MARGIN + sum(nbytes * (-(-(n + k) // rows) - (-(-n // rows)))
-                                for _, _, (rows, nbytes) in self.series.values())
-            need += sum(np.asarray(a).nbytes for a in snapshots.values())
+            need = _block_bytes(self.series, self.n, self.pending) + MARGIN
+            need += sum(a.nbytes for a in snapshots.values())
             need += self.gauges.need() if self.gauges else 0
             self.reserve.ensure(self.f.id.get_filesize(), need + need // 20)
         except DiskFull as exc:
             raise OutputFailed(self._failure(exc)) from None
+        if gauges_only:
+            block = self.gauges.take()
+            self._write(lambda: self.gauges.write(block))
+        else:
+            block = self._take()
+            self.thread.start(lambda: self._write(lambda: self._write_block(block, snapshots,
+                                                                            slab)))
+        self.last_flush = time.monotonic()
+
+    def settle(self):
+        """Until the block in flight is in the file; its OutputFailed."""
+        self.thread.wait()
+
+    def _write(self, action):
+        """``action()`` and an HDF5 flush; an HDF5 error breaks the file."""
         try:
-            if gauges_only:
-                self.gauges.write()
-            else:
-                self._write_rows()
-                self.snapshots.write(snapshots, slab)
+            action()
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             self.broken = True
             raise OutputFailed(self._failure(exc)) from None
-        self.last_flush = time.monotonic()
 
     def _failure(self, exc):
         kept = ("nothing written yet" if self.flushed_slab is None else
                 f"the file keeps every slab up to slab {self.flushed_slab}")
         return f"cannot write {self.lock.path}: {_reason(exc)}; {kept}"
 
-    def _write_rows(self):
-        if self.gauges:
-            self.gauges.write()
-        k, n = self.pending, self.n
-        if k == 0:
-            return
-        for name, (dsid, _, _) in self.series.items():
-            _append(dsid, n, self.buffers[name][:k])
-        self.flushed_slab = int(self.buffers["solver/slab"][k - 1])
-        self.n, self.pending = n + k, 0
+    def _take(self):
+        """The buffered block (buffers, rows, gauge block); the next rows
+        go to the other buffers."""
+        block = (self.buffers, self.pending, self.gauges.take() if self.gauges else None)
+        self.buffers, self.spare, self.pending = self.spare, self.buffers, 0
+        return block
+
+    def _write_block(self, block, snapshots, slab):
+        buffers, k, gauges = block
+        if gauges:
+            self.gauges.write(gauges)
+        if k:
+            n = self.n
+            for name, (dsid, _, _) in self.series.items():
+                _append(dsid, n, buffers[name][:k])
+            self.flushed_slab = int(buffers["solver/slab"][k - 1])
+            self.n = n + k
+        self.snapshots.write(snapshots, slab)
 
     def close(self, status, snapshots=None, slab=None, groups=None, **attrs):
         """Write what is buffered, set the status and attributes (``groups``:
@@ -284,6 +300,7 @@ class ResultWriter:
         if not self.broken:
             try:
                 self.flush(snapshots, slab)
+                self.settle()
             except OutputFailed as exc:
                 error, status, attrs = exc, "failed", {"message": str(exc)}
         if not self.broken:
@@ -301,6 +318,33 @@ class ResultWriter:
         self.lock.release()
         if error is not None:
             raise error
+
+
+def _track(f):
+    """(series {name: (low-level handle, row shape, (chunk rows, chunk
+    bytes))}, two sets of buffers {name: array}, rows a buffer holds) of
+    the series of ``f`` kept with the rows (h5py's high-level resize and
+    item assignment cost ~200 us a call)."""
+    series, buffers, spare, capacity = {}, {}, {}, None
+    for name, ds in _series_of(f):
+        if layout.every_slab(name):
+            continue
+        tail = ds.shape[1:]
+        width = max(1, int(np.prod(tail)))
+        rows = max(1, min(BUFFER_ROWS, BUFFER_VALUES // width))
+        chunk = (ds.chunks[0], int(np.prod(ds.chunks)) * ds.dtype.itemsize)
+        series[name] = (ds.id, tail, chunk)
+        buffers[name] = _touched((rows,) + tail, ds.dtype)
+        spare[name] = _touched((rows,) + tail, ds.dtype)
+        capacity = min(rows, capacity or rows)
+    return series, buffers, spare, capacity
+
+
+def _block_bytes(series, n, k):
+    """Bytes HDF5 may add to write rows n..n+k-1 of ``series`` (it allocates
+    whole chunks, each when its first row is written)."""
+    return sum(nbytes * (-(-(n + k) // rows) - (-(-n // rows)))
+               for _, _, (rows, nbytes) in series.values())
 
 
 def _append(dsid, n, rows):
