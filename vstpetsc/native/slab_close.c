@@ -51,25 +51,43 @@ void vst_close_state(Close *c)
     c->strain = 0.5 * strain;
 }
 
+/* one row's products, summed left to right from 0 (j: which of the
+ * neighbours i - 1, i + 1 exist) */
+static double band_row(const double *row, const double *z, int left, int right)
+{
+    double s = 0.0;
+    if (left)
+        s += row[0] * z[-2];
+    s += row[1] * z[0];
+    if (right)
+        s += row[2] * z[2];
+    return s;
+}
+
 void vst_band_add(Close *c)
 {
     /* the row's products summed first, then added to b: PETSc's order
      * (MatMultAdd of its AIJ and SELL formats), which the parallel path
-     * keeps, so that one rank and several sum alike */
+     * keeps, so that one rank and several sum alike; the first and last
+     * node apart, so that the loop between has no branch */
     const double *x = c->x, *a = c->band;
     double *b = c->b;
     int n = c->nodes;
-    for (int i = 0; i < n; i++, a += 6) {
-        for (int k = 0; k < 2; k++) {
-            const double *row = a + 3 * k;
-            const double *z = x + 2 * i + k;
-            double s = 0.0;
-            if (i > 0)
-                s += row[0] * z[-2];
-            s += row[1] * z[0];
-            if (i + 1 < n)
-                s += row[2] * z[2];
-            b[2 * i + k] += s;
-        }
+    if (n < 1)
+        return;
+    for (int k = 0; k < 2; k++)
+        b[k] += band_row(a + 3 * k, x + k, 0, n > 1);
+    for (int i = 1; i < n - 1; i++) {
+        const double *row = a + 6 * i, *z = x + 2 * i;
+        double s0 = row[0] * z[-2], s1 = row[3] * z[-1];
+        s0 += row[1] * z[0];
+        s1 += row[4] * z[1];
+        s0 += row[2] * z[2];
+        s1 += row[5] * z[3];
+        b[2 * i] += s0;
+        b[2 * i + 1] += s1;
     }
+    if (n > 1)
+        for (int k = 0; k < 2; k++)
+            b[2 * (n - 1) + k] += band_row(a + 6 * (n - 1) + 3 * k, x + 2 * (n - 1) + k, 1, 0);
 }
