@@ -77,14 +77,21 @@ def datasets(path):
     return out, attrs
 
 
-def test_buffered_and_unbuffered_files_are_identical(tmp_path):
-    """Blocks written by wall time (default) or a flush after every kept
-    row (-vst_flush_interval 0): every dataset equal bit for bit."""
+@pytest.mark.parametrize("other", ["unbuffered", "no thread"])
+def test_buffered_and_unbuffered_files_are_identical(tmp_path, monkeypatch, other):
+    """Blocks written by wall time on the writer's thread (default), a
+    flush after every kept row (-vst_flush_interval 0), or every block
+    written at once (one set of buffers, as for huge rows): every dataset
+    equal bit for bit."""
     c = case(2)
     solve(tmp_path, c, "buffered")
-    solve(tmp_path, c, "unbuffered", options=["-vst_flush_interval", "0"])
+    options = ["-vst_flush_interval", "0"]
+    if other == "no thread":
+        monkeypatch.setattr(writer, "THREAD_ROWS", 1 << 30)
+        options = ["-vst_flush_interval", "0.0001"]
+    solve(tmp_path, c, "other", options=options)
     a, attrs_a = datasets(tmp_path / "buffered.h5")
-    b, attrs_b = datasets(tmp_path / "unbuffered.h5")
+    b, attrs_b = datasets(tmp_path / "other.h5")
     assert set(a) == set(b) and any(k.startswith("gauge/") for k in a)
     for key in a:
         if key != "solver/wall_time":

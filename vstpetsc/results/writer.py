@@ -31,6 +31,7 @@ from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
 
 BUFFER_VALUES = 1 << 21          # doubles per series buffer (16 MB)
 BUFFER_ROWS = 1 << 13            # rows a block holds at most (a block costs ~3 ms)
+THREAD_ROWS = 16                 # fewer rows a block: no second set, no thread
 MARGIN = 1 << 18                 # bytes reserved beyond a block's estimate
 _UNCLOSABLE = []                 # files HDF5 failed to write: never closed
 
@@ -229,13 +230,14 @@ class ResultWriter:
 
     def flush(self, snapshots=None, slab=None, gauges_only=False):
         """Write the buffered rows and ``snapshots`` ({name: array}, state
-        at the last row, slab number ``slab``), then flush HDF5: on a
-        thread (:mod:`~vstpetsc.results.blocks`), after the block before
-        it, whose failure is raised here; with ``gauges_only`` the gauge
-        rows alone, at once (a full gauge buffer between kept rows)."""
+        at the last row, slab number ``slab``; arrays given away: the
+        thread writes them while the run goes on), then flush HDF5: on a
+        thread (:mod:`~vstpetsc.results.blocks`) when there are two sets
+        of buffers, after the block before it, whose failure is raised
+        here; with ``gauges_only`` the gauge rows alone, at once (a full
+        gauge buffer between kept rows)."""
         self.settle()
-        # copies: the run goes on while the thread writes them
-        snapshots = {name: np.array(data, dtype=np.float64)
+        snapshots = {name: np.asarray(data, dtype=np.float64)
                      for name, data in (snapshots or {}).items()}
         try:
             need = _block_bytes(self.series, self.n, self.pending) + MARGIN
@@ -245,22 +247,22 @@ class ResultWriter:
         except DiskFull as exc:
             raise OutputFailed(self._failure(exc)) from None
         if gauges_only:
-            block = self.gauges.take()
-            self._write(lambda: self.gauges.write(block))
+            self._write(self.gauges.write, self.gauges.take())
+        elif self.spare is None:
+            self._write(self._write_block, self._take(), snapshots, slab)
         else:
             block = self._take()
-            self.thread.start(lambda: self._write(lambda: self._write_block(block, snapshots,
-                                                                            slab)))
+            self.thread.start(lambda: self._write(self._write_block, block, snapshots, slab))
         self.last_flush = time.monotonic()
 
     def settle(self):
         """Until the block in flight is in the file; its OutputFailed."""
         self.thread.wait()
 
-    def _write(self, action):
-        """``action()`` and an HDF5 flush; an HDF5 error breaks the file."""
+    def _write(self, action, *args):
+        """``action(*args)`` and an HDF5 flush; an HDF5 error breaks the file."""
         try:
-            action()
+            action(*args)
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             self.broken = True
@@ -275,7 +277,9 @@ class ResultWriter:
         """The buffered block (buffers, rows, gauge block); the next rows
         go to the other buffers."""
         block = (self.buffers, self.pending, self.gauges.take() if self.gauges else None)
-        self.buffers, self.spare, self.pending = self.spare, self.buffers, 0
+        if self.spare is not None:
+            self.buffers, self.spare = self.spare, self.buffers
+        self.pending = 0
         return block
 
     def _write_block(self, block, snapshots, slab):
@@ -324,7 +328,9 @@ def _track(f):
     """(series {name: (low-level handle, row shape, (chunk rows, chunk
     bytes))}, two sets of buffers {name: array}, rows a buffer holds) of
     the series of ``f`` kept with the rows (h5py's high-level resize and
-    item assignment cost ~200 us a call)."""
+    item assignment cost ~200 us a call); the second set is None when a
+    buffer holds fewer than THREAD_ROWS rows (huge rows: memory first,
+    and blocks are written at once)."""
     series, buffers, spare, capacity = {}, {}, {}, None
     for name, ds in _series_of(f):
         if layout.every_slab(name):
@@ -337,6 +343,8 @@ def _track(f):
         buffers[name] = _touched((rows,) + tail, ds.dtype)
         spare[name] = _touched((rows,) + tail, ds.dtype)
         capacity = min(rows, capacity or rows)
+    if capacity is not None and capacity < THREAD_ROWS:
+        spare = None
     return series, buffers, spare, capacity
 
 
