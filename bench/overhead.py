@@ -131,9 +131,10 @@ def example_wall(name="bar-wall", reps=5):
 
 
 def slabs_for(kind, elements, quick):
-    """Slabs enough for ~0.3 s of running (fewer when quick); output every
-    slab makes 24 bytes a node a slab, so at 10 000 elements 1000 slabs
-    write 240 MB."""
+    """Slabs enough for ~0.3 s of running and the first blocks' fresh
+    buffers (a page fault costs 4-10 us on the bench's VM) a small part of
+    the middle of the run (fewer when quick); output every slab makes 24
+    bytes a node a slab, so at 10 000 elements 3000 slabs write 720 MB."""
     if quick:
         return 2000 if elements <= 100 else 600
-    return int(min(30_000, max(1000, 3e6 / elements)))
+    return int(min(30_000, max(3000, 3e6 / elements)))

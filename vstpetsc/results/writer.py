@@ -29,7 +29,7 @@ from vstpetsc.results import layout
 from vstpetsc.results.blocks import BlockThread
 from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
 
-BUFFER_VALUES = 1 << 21          # doubles per series buffer (16 MB)
+BUFFER_VALUES = 1 << 20          # doubles per series buffer (8 MB; two of them with a thread)
 BUFFER_ROWS = 1 << 13            # rows a block holds at most (a block costs ~3 ms)
 THREAD_ROWS = 16                 # fewer rows a block: no second set, no thread
 MARGIN = 1 << 18                 # bytes reserved beyond a block's estimate
@@ -331,7 +331,7 @@ def _track(f):
     item assignment cost ~200 us a call); the second set is None when a
     buffer holds fewer than THREAD_ROWS rows (huge rows: memory first,
     and blocks are written at once)."""
-    series, buffers, spare, capacity = {}, {}, {}, None
+    series, buffers, capacity = {}, {}, None
     for name, ds in _series_of(f):
         if layout.every_slab(name):
             continue
@@ -341,10 +341,9 @@ def _track(f):
         chunk = (ds.chunks[0], int(np.prod(ds.chunks)) * ds.dtype.itemsize)
         series[name] = (ds.id, tail, chunk)
         buffers[name] = _touched((rows,) + tail, ds.dtype)
-        spare[name] = _touched((rows,) + tail, ds.dtype)
         capacity = min(rows, capacity or rows)
-    if capacity is not None and capacity < THREAD_ROWS:
-        spare = None
+    spare = None if capacity is not None and capacity < THREAD_ROWS else \
+        {name: _touched(b.shape, b.dtype) for name, b in buffers.items()}
     return series, buffers, spare, capacity
 
 
@@ -433,8 +432,9 @@ def _reason(exc):
 def _touched(shape, dtype, most=1 << 22):
     """An array whose memory is mapped and written once (np.zeros alone maps
     pages lazily, at first write), when it takes at most ``most`` bytes: a
-    buffer of a few rows of a big mesh is left lazy (a page fault per 4 kB
-    is nothing next to its rows' cost, and untouched rows cost no memory)."""
+    bigger buffer is left lazy (its pages fault as rows arrive, 4-10 us a
+    4 kB page on the bench's VM: paid once either way, and untouched rows
+    cost no memory)."""
     out = np.empty(shape, dtype=dtype)
     if out.nbytes <= most:
         out.fill(0)
