@@ -15,25 +15,15 @@ import tempfile
 import time
 
 import h5py
-import numpy as np
 from petsc4py import PETSc
 
+from cases import steel_bar
 from vstpetsc import Case
 from vstpetsc.model import build_model
 from vstpetsc.petsc.options import SolverOptions
 from vstpetsc.petsc.slab_solver import SlabSolver
 
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
-C = np.sqrt(2.0e11 / 7850.0)
-
-
-def steel_bar(elements, slabs, cfl=0.5, every=100000):
-    """The [time], [output] and [[body]] tables of a steel bar of 1 m,
-    c dt / h = ``cfl`` (the body's v0 and the rest to follow)."""
-    dt = cfl / elements / C
-    return (f"[time]\ndt = {dt!r}\nend = {slabs * dt!r}\n[output]\nevery = {every}\n"
-            f"[[body]]\nname = \"bar\"\nx = [0.0, 1.0]\nelements = {elements}\n"
-            "E = 2.0e11\nrho = 7850.0\n")
 
 
 def bar_case(elements, slabs, contact=False, cfl=0.5):

@@ -28,6 +28,7 @@ import h5py
 import numpy as np
 from petsc4py import PETSc
 
+from cases import steel_bar
 from vstpetsc import Case
 from vstpetsc.model import build_model
 from vstpetsc.petsc.options import SolverOptions
@@ -35,16 +36,12 @@ from vstpetsc.petsc.slab_solver import SlabSolver
 
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-C = np.sqrt(2.0e11 / 7850.0)
 CASES = {"free": 0.5, "held": 0.5, "impact": 1.0}       # name: c dt / h
 
 
 def case_text(kind, elements, slabs):
     """The case file of ``kind`` (see the module) with ``elements`` elements."""
-    dt = CASES[kind] / elements / C
-    text = (f"[time]\ndt = {dt!r}\nend = {slabs * dt!r}\n[output]\nevery = 1\n"
-            f"[[body]]\nname = \"bar\"\nx = [0.0, 1.0]\nelements = {elements}\n"
-            "E = 2.0e11\nrho = 7850.0\n")
+    text = steel_bar(elements, slabs, CASES[kind], every=1)
     if kind == "free":
         return text + ("v0 = [[0.0, 0.0], [1.0, 1.0]]\n"
                        "[[bc]]\nbody = \"bar\"\nend = \"left\"\ntype = \"fixed\"\n")
@@ -132,7 +129,7 @@ def example_wall(name="bar-wall", reps=5):
 
 def slabs_for(kind, elements, quick):
     """Slabs enough for ~0.3 s of running and the first blocks' fresh
-    buffers (a page fault costs 4-10 us on the bench's VM) a small part of
+    buffers (a page fault costs 3.6-10 us on the bench's VM) a small part of
     the middle of the run (fewer when quick); output every slab makes 24
     bytes a node a slab, so at 10 000 elements 3000 slabs write 720 MB."""
     if quick:

@@ -15,7 +15,7 @@ import h5py
 import numpy as np
 
 import sweep_speed
-from limit import steel_bar
+from cases import steel_bar   # no PETSc in this process (see cases.py)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")

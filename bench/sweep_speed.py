@@ -16,7 +16,7 @@ import sys
 import tempfile
 import time
 
-from limit import steel_bar
+from cases import steel_bar
 
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 VALUES = "0.5,0.75,1,1.25,1.5,1.75,2,2.25"

@@ -51,3 +51,14 @@ def test_bench_quick_reports_every_field(tmp_path):
         assert row["set"] > 0 and row["wall"] > 0 and row["transferred"] > 0
     text = (tmp_path / "README.md").read_text()
     assert "| elements |" in text and "| case | elements |" in text
+
+
+def test_the_parallel_benchmarks_start_no_mpi_themselves():
+    """bench/parallel_solvers.py and sweep_speed.py run `mpirun`; a parent
+    that has started Open MPI (importing petsc4py does) makes those
+    children exit 1 without a word, which once emptied the parallel table."""
+    code = ("import sys; import parallel_solvers, sweep_speed; "
+            "sys.exit('petsc4py' in sys.modules or 'mpi4py' in sys.modules)")
+    p = subprocess.run([sys.executable, "-c", code], cwd=os.path.join(ROOT, "bench"),
+                       capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr

@@ -5,11 +5,12 @@ start its answer is the Python one (bit for bit while at most one pair
 acts at a time); and a whole slab of the pairs in one call
 (:class:`PenaltySlab`, the default), whose products with small matrices
 are plain loops instead of numpy's BLAS, so a run agrees with the Python
-one to rounding.
+one to rounding.  The end of a slab on one rank (slab_close.c) is in
+:mod:`vstpetsc.native.closing`.
 
 `make install` builds ``libvstnative.so`` next to this file with the
 system's C compiler; without it (a plain ``pip install``) :func:`library`
-returns None and the Python Newton runs.  ``-vst_native 0`` turns it off.
+returns None and the Python path runs.  ``-vst_native 0`` turns it off.
 """
 
 import ctypes

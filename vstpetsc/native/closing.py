@@ -42,10 +42,9 @@ class SlabClose:
                           *(a.ctypes.data for a in (solver.u, solver.v, env.buf, env.lo, env.hi,
                                                     self.m_diag, self.m_off, self.stiffness)),
                           0.0, 0.0)
+        # the arrays the struct points into live as long as it does
         self._keep = (solver.x, solver.br, solver.u, solver.v, env.buf, env.lo, env.hi)
-        ref = ctypes.addressof(self.ctx)
-        self._state = lambda: lib.vst_close_state(ref)
-        self._band = lambda: lib.vst_band_add(ref)
+        self.lib, self.ref = lib, ctypes.addressof(self.ctx)
 
     @classmethod
     def of(cls, solver, ops, use):
@@ -56,11 +55,11 @@ class SlabClose:
 
     def state(self):
         """u += z_2, v = V_1 z, the elongations and their envelopes."""
-        self._state()
+        self.lib.vst_close_state(self.ref)
 
     def add_increment(self):
         """b += G z."""
-        self._band()
+        self.lib.vst_band_add(self.ref)
 
     def velocities(self):
         """Nothing: v is formed by every close."""

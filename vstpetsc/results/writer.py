@@ -432,7 +432,7 @@ def _reason(exc):
 def _touched(shape, dtype, most=1 << 22):
     """An array whose memory is mapped and written once (np.zeros alone maps
     pages lazily, at first write), when it takes at most ``most`` bytes: a
-    bigger buffer is left lazy (its pages fault as rows arrive, 4-10 us a
+    bigger buffer is left lazy (its pages fault as rows arrive, 3.6-10 us a
     4 kB page on the bench's VM: paid once either way, and untouched rows
     cost no memory)."""
     out = np.empty(shape, dtype=dtype)
