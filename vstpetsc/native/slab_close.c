@@ -51,8 +51,8 @@ void vst_close_state(Close *c)
     c->strain = 0.5 * strain;
 }
 
-/* one row's products, summed left to right from 0 (j: which of the
- * neighbours i - 1, i + 1 exist) */
+/* one row's products, summed left to right from 0 (left, right: whether
+ * the neighbours i - 1 and i + 1 exist) */
 static double band_row(const double *row, const double *z, int left, int right)
 {
     double s = 0.0;
