@@ -237,11 +237,10 @@ class ResultWriter:
         here; with ``gauges_only`` the gauge rows alone, at once (a full
         gauge buffer between kept rows)."""
         self.settle()
-        snapshots = {name: np.asarray(data, dtype=np.float64)
-                     for name, data in (snapshots or {}).items()}
+        snapshots = snapshots or {}
         try:
             need = _block_bytes(self.series, self.n, self.pending) + MARGIN
-            need += sum(a.nbytes for a in snapshots.values())
+            need += sum(np.asarray(a).nbytes for a in snapshots.values())
             need += self.gauges.need() if self.gauges else 0
             self.reserve.ensure(self.f.id.get_filesize(), need + need // 20)
         except DiskFull as exc:
