@@ -71,3 +71,29 @@ def test_whole_runs_are_the_python_runs(tmp_path):
     for key in ("energy/kinetic", "energy/strain"):
         x, y = a[key], b[key]
         assert np.abs(x - y).max() <= 1e-13 * np.abs(x).max(), key
+
+
+@pytest.mark.parametrize("n", [1, 2, 7, 10])
+def test_row_copier_writes_numpys_rows(rng, n):
+    """Copies and products into every row of 2-D buffers, whatever the
+    alignment of the row (odd sizes: every other row starts between
+    16-byte boundaries), equal to numpy's bit for bit."""
+    from vstpetsc.native.rows import RowCopier
+
+    values, other, factor = rng.normal(size=n), rng.normal(size=n + 1), rng.normal(size=n)
+    copier = RowCopier.of([(values, None), (other, None), (values, factor)])
+    targets = [np.zeros((3, n)), np.zeros((3, n + 1)), np.zeros((3, n))]
+    copier.bind(targets)
+    expected = []
+    for i in range(3):
+        copier.post(i)
+        expected.append((values.copy(), other.copy(), values * factor))
+        values += 1.0
+        other -= 1.0
+    for i, rows in enumerate(expected):
+        for target, row in zip(targets, rows):
+            assert np.array_equal(target[i], row)
+    with pytest.raises(IndexError):
+        copier.post(3)
+    with pytest.raises(ValueError):
+        copier.bind([np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n))])

@@ -23,6 +23,10 @@ class Recorder:
         self.interval = interval
         self.writer, self.lock = None, None
         self.rows = layout.RowFiller(model)
+        if self.rank0 and solver.serial and solver.native:
+            from vstpetsc.native.rows import RowCopier
+
+            self.rows.offload(solver.u, solver.v, solver.elongation(), RowCopier.of)
         self.gauges = Gauges(model)
         self.start = time.perf_counter()
         if len(self.gauges):

@@ -6,7 +6,8 @@ acts at a time); and a whole slab of the pairs in one call
 (:class:`PenaltySlab`, the default), whose products with small matrices
 are plain loops instead of numpy's BLAS, so a run agrees with the Python
 one to rounding.  The end of a slab on one rank (slab_close.c) is in
-:mod:`vstpetsc.native.closing`.
+:mod:`vstpetsc.native.closing`, the copies of a kept row
+(row_copier.c) in :mod:`vstpetsc.native.rows`.
 
 `make install` builds ``libvstnative.so`` next to this file with the
 system's C compiler; without it (a plain ``pip install``) :func:`library`
@@ -56,8 +57,9 @@ def library():
             lib.vst_penalty_newton.restype = ctypes.c_int
             lib.vst_penalty_slab.argtypes = [_P, _P]
             lib.vst_penalty_slab.restype = ctypes.c_int
-            for name in ("vst_close_state", "vst_band_add"):
-                getattr(lib, name).argtypes = [_P]
+            for name, args in (("vst_close", [_P]),
+                               ("vst_rows_copy", [_P, ctypes.c_int, ctypes.c_long])):
+                getattr(lib, name).argtypes = args
                 getattr(lib, name).restype = None
         _loaded.append(lib)
     return _loaded[0]

@@ -1,9 +1,9 @@
 """The end of a slab on one rank in compiled code (slab_close.c): the
-displacements, end velocities, elongations, their envelopes and the
-state's energies in one pass over the nodes, and the running sum
-b += G z in another, where the Python path makes a dozen numpy calls
-and a PETSc product (each ~1 us at 100 elements, and one memory pass
-each at 10 000)."""
+displacements, end velocities, elongations, their envelopes, the
+state's energies and the running sum b += G z in three vectorised
+loops, where the Python path makes a dozen numpy calls and a PETSc
+product (each ~1 us at 100 elements, and one memory pass each at
+10 000)."""
 
 import ctypes
 
@@ -13,15 +13,20 @@ from vstpetsc import slab
 from vstpetsc.native import library
 
 _P = ctypes.c_void_p
+_D = ctypes.c_double
 
 
 class _Close(ctypes.Structure):
     """The C struct Close of slab_close.c, field for field."""
 
-    _fields_ = [("nodes", ctypes.c_int), ("x", _P), ("b", _P), ("band", _P),
-                ("v1", ctypes.c_double), ("v2", ctypes.c_double), ("u", _P), ("v", _P),
+    _fields_ = [("nodes", ctypes.c_int), ("x", _P), ("b", _P), ("left", _P), ("diag", _P),
+                ("right", _P), ("v1", _D), ("v2", _D), ("u", _P), ("v", _P),
                 ("d", _P), ("lo", _P), ("hi", _P), ("m_diag", _P), ("m_off", _P),
-                ("stiffness", _P), ("kinetic", ctypes.c_double), ("strain", ctypes.c_double)]
+                ("stiffness", _P), ("kinetic", _D), ("strain", _D)]
+
+
+def _doubles(a):
+    return np.ascontiguousarray(a, dtype=np.float64)
 
 
 class SlabClose:
@@ -31,19 +36,16 @@ class SlabClose:
     bounds, b)."""
 
     def __init__(self, lib, solver, ops):
-        n = ops.m_diag.size
-        self.band = slab.increment_bands(ops, solver.dt, 0, n)
-        self.m_off = np.ascontiguousarray(ops.m_off, dtype=np.float64)
-        self.m_diag = np.ascontiguousarray(ops.m_diag, dtype=np.float64)
-        self.stiffness = np.ascontiguousarray(-ops.k_off, dtype=np.float64)
+        band = slab.increment_bands(ops, solver.dt, 0, ops.m_diag.size)   # (n, 2, 3)
+        rows = [np.ascontiguousarray(band[:, :, j]).ravel() for j in range(3)]
+        # strain 1/2 sum (-k_off) d^2
+        energy = [_doubles(a) for a in (ops.m_diag, ops.m_off, -ops.k_off)]
         env = solver.envelope
-        arrays = (solver.x, solver.br, self.band)
-        self.ctx = _Close(n, *(a.ctypes.data for a in arrays), *solver.V[1],
-                          *(a.ctypes.data for a in (solver.u, solver.v, env.buf, env.lo, env.hi,
-                                                    self.m_diag, self.m_off, self.stiffness)),
-                          0.0, 0.0)
-        # the arrays the struct points into live as long as it does
-        self._keep = (solver.x, solver.br, solver.u, solver.v, env.buf, env.lo, env.hi)
+        self._keep = (solver.x, solver.br, *rows, solver.u, solver.v, env.buf, env.lo,
+                      env.hi, *energy)
+        p = [a.ctypes.data for a in self._keep]
+        self.ctx = _Close(ops.m_diag.size, *p[:5], *solver.V[1], *p[5:], 0.0, 0.0)
+        # the arrays the struct points into live as long as it does (_keep)
         self.lib, self.ref = lib, ctypes.addressof(self.ctx)
 
     @classmethod
@@ -53,13 +55,10 @@ class SlabClose:
         lib = library() if use and solver.serial else None
         return None if lib is None else cls(lib, solver, ops)
 
-    def state(self):
-        """u += z_2, v = V_1 z, the elongations and their envelopes."""
-        self.lib.vst_close_state(self.ref)
-
-    def add_increment(self):
-        """b += G z."""
-        self.lib.vst_band_add(self.ref)
+    def close(self):
+        """u += z_2, v = V_1 z, the elongations and their envelopes, the
+        state's energies and b += G z, in one pass."""
+        self.lib.vst_close(self.ref)
 
     def velocities(self):
         """Nothing: v is formed by every close."""

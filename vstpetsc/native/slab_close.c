@@ -1,20 +1,20 @@
-/* The end of a slab on one rank, in two passes over the nodes instead of
- * a dozen numpy calls (vstpetsc/native/closing.py):
- *
- *   vst_close_state: u += z_2, v = v1 . z, the elongations d of the node
- *       pairs, their envelopes lo <= d <= hi and the energies of the state
- *       (kinetic 1/2 v^T M v, strain 1/2 sum k d^2);
- *   vst_band_add:    b += G z, G of three entries a row (slab.increment_bands).
+/* The end of a slab on one rank, in three vectorised loops instead of a
+ * dozen numpy calls and a PETSc product (vstpetsc/native/closing.py):
+ * u += z_2, v = v1 z_1 + v2 z_2, the elongations d of the node pairs,
+ * their envelopes lo <= d <= hi, the energies of the state (kinetic
+ * 1/2 v^T M v, strain 1/2 sum k d^2) and the running sum b += G z, G's
+ * three bands (slab.increment_bands) laid out per dof row.
  *
  * The unknowns are mixed per node: z = (z_1, z_2) at x[2i], x[2i + 1].
- * u, v, d, lo, hi and b are the Python path's bit for bit; the
- * energies equal it to rounding (numpy's dot sums in blocks). */
+ * u, v, d, lo, hi and b are the Python path's bit for bit (elementwise
+ * IEEE operations in the same order, no fused multiply-add:
+ * -ffp-contract=off); the energies equal it to rounding. */
 
 typedef struct {
     int nodes;                 /* n */
     const double *x;           /* slab unknowns (n, 2) */
     double *b;                 /* running right-hand side (n, 2) */
-    const double *band;        /* G's rows (n, 2, 3): columns i - 1, i, i + 1 */
+    const double *left, *diag, *right;   /* G's dof row r: on x[r - 2], x[r], x[r + 2] */
     double v1, v2;             /* v = v1 z_1 + v2 z_2 */
     double *u, *v;             /* displacements, end velocities (n) */
     double *d, *lo, *hi;       /* elongations and their envelopes (n - 1) */
@@ -24,70 +24,79 @@ typedef struct {
     double kinetic, strain;    /* out */
 } Close;
 
-void vst_close_state(Close *c)
+/* b += G z on the dof rows r = lo .. hi - 1: the products of a row summed
+ * from 0, left to right (left, right: whether the neighbours x[r - 2],
+ * x[r + 2] exist), then added to b, as PETSc's MatMultAdd of its AIJ and
+ * SELL formats does, which the parallel path keeps: one rank and several
+ * sum alike.  Inlined with constant flags, the loop has no branch. */
+static inline void band_rows(const Close *c, int lo, int hi, int left, int right)
 {
-    const double *x = c->x;
-    double *u = c->u, *v = c->v, *d = c->d, *lo = c->lo, *hi = c->hi;
-    double diag = 0.0, off = 0.0, strain = 0.0;
-    double u_prev = 0.0, v_prev = 0.0;
+    const double *restrict L = c->left, *restrict D = c->diag, *restrict R = c->right;
+    const double *restrict x = c->x;
+    double *restrict b = c->b;
+#pragma omp simd
+    for (int r = lo; r < hi; r++) {
+        double s = 0.0;
+        if (left)
+            s += L[r] * x[r - 2];
+        s += D[r] * x[r];
+        if (right)
+            s += R[r] * x[r + 2];
+        b[r] += s;
+    }
+}
+
+/* u += z_2, v = v1 z_1 + v2 z_2; returns sum m_ii v_i^2 */
+static double nodes_state(const Close *c)
+{
+    const double v1 = c->v1, v2 = c->v2;
+    const double *restrict x = c->x, *restrict m = c->m_diag;
+    double *restrict u = c->u, *restrict v = c->v;
+    double diag = 0.0;
+#pragma omp simd reduction(+:diag)
     for (int i = 0; i < c->nodes; i++) {
-        double ui = u[i] + x[2 * i + 1];
-        double vi = x[2 * i] * c->v1 + x[2 * i + 1] * c->v2;
-        u[i] = ui;
+        double vi = x[2 * i] * v1 + x[2 * i + 1] * v2;
+        u[i] += x[2 * i + 1];
         v[i] = vi;
-        diag += c->m_diag[i] * (vi * vi);
-        if (i > 0) {
-            double di = ui - u_prev;
-            d[i - 1] = di;
-            lo[i - 1] = di < lo[i - 1] ? di : lo[i - 1];
-            hi[i - 1] = di > hi[i - 1] ? di : hi[i - 1];
-            off += c->m_off[i - 1] * (v_prev * vi);
-            strain += c->stiffness[i - 1] * (di * di);
-        }
-        u_prev = ui;
-        v_prev = vi;
+        diag += m[i] * (vi * vi);
+    }
+    return diag;
+}
+
+/* the elongations, their envelopes and the pairs' energy sums */
+static void pairs_state(Close *c, double diag)
+{
+    const double *restrict u = c->u, *restrict v = c->v;
+    const double *restrict m = c->m_off, *restrict k = c->stiffness;
+    double *restrict d = c->d, *restrict lo = c->lo, *restrict hi = c->hi;
+    double off = 0.0, strain = 0.0;
+#pragma omp simd reduction(+:off, strain)
+    for (int p = 0; p < c->nodes - 1; p++) {
+        double dp = u[p + 1] - u[p];
+        d[p] = dp;
+        lo[p] = dp < lo[p] ? dp : lo[p];
+        hi[p] = dp > hi[p] ? dp : hi[p];
+        off += m[p] * (v[p] * v[p + 1]);
+        strain += k[p] * (dp * dp);
     }
     c->kinetic = 0.5 * diag + off;
     c->strain = 0.5 * strain;
 }
 
-/* one row's products, summed left to right from 0 (left, right: whether
- * the neighbours i - 1 and i + 1 exist) */
-static double band_row(const double *row, const double *z, int left, int right)
+void vst_close(Close *c)
 {
-    double s = 0.0;
-    if (left)
-        s += row[0] * z[-2];
-    s += row[1] * z[0];
-    if (right)
-        s += row[2] * z[2];
-    return s;
-}
-
-void vst_band_add(Close *c)
-{
-    /* the row's products summed first, then added to b: PETSc's order
-     * (MatMultAdd of its AIJ and SELL formats), which the parallel path
-     * keeps, so that one rank and several sum alike; the first and last
-     * node apart, so that the loop between has no branch */
-    const double *x = c->x, *a = c->band;
-    double *b = c->b;
+    /* three loops, elementwise but for the energies' sums (in any order:
+     * omp simd reductions), so that the compiler vectorises them; the
+     * data stays in cache between them */
     int n = c->nodes;
     if (n < 1)
         return;
-    for (int k = 0; k < 2; k++)
-        b[k] += band_row(a + 3 * k, x + k, 0, n > 1);
-    for (int i = 1; i < n - 1; i++) {
-        const double *row = a + 6 * i, *z = x + 2 * i;
-        double s0 = row[0] * z[-2], s1 = row[3] * z[-1];
-        s0 += row[1] * z[0];
-        s1 += row[4] * z[1];
-        s0 += row[2] * z[2];
-        s1 += row[5] * z[3];
-        b[2 * i] += s0;
-        b[2 * i + 1] += s1;
+    if (n == 1) {
+        band_rows(c, 0, 2, 0, 0);
+    } else {
+        band_rows(c, 0, 2, 0, 1);
+        band_rows(c, 2, 2 * n - 2, 1, 1);
+        band_rows(c, 2 * n - 2, 2 * n, 1, 0);
     }
-    if (n > 1)
-        for (int k = 0; k < 2; k++)
-            b[2 * (n - 1) + k] += band_row(a + 6 * (n - 1) + 3 * k, x + 2 * (n - 1) + k, 1, 0);
+    pairs_state(c, nodes_state(c));
 }

@@ -21,8 +21,12 @@ class SlabEnd:
         self._z, self._V1 = solver.x.reshape(-1, 2), solver.V[1].copy()
         self._v2 = np.zeros(n1 - n0)
 
-    def state(self):
-        """u += z_2 and the envelopes."""
+    def close(self):
+        """u += z_2, the envelopes and b += G z."""
+        self._state()
+        self.G.add_to(self.solver.X, self.solver.b)
+
+    def _state(self):
         s = self.solver
         np.add(s.u, s.x[1::2], out=s.u)
         if not s.serial:                     # collective, also without a ghost
@@ -30,10 +34,6 @@ class SlabEnd:
             if s.envelope.ghost:
                 s.u_ghost += ghost[0]
         s.envelope.update(s.u, s.u_ghost)
-
-    def add_increment(self):
-        """b += G z."""
-        self.G.add_to(self.solver.X, self.solver.b)
 
     def velocities(self):
         """v = z_1 V_1[0] + z_2 V_1[1] into the solver's v, in two ufuncs, not

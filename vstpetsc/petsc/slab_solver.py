@@ -76,6 +76,7 @@ class SlabSolver:
         self.b, self.br = self.space.array_vector()   # W r: the running right-hand side
         self.v = np.zeros(n1 - n0)      # v^2 of the owned nodes, formed for output
         self.serial = comm.getSize() == 1
+        self.native = options.native
         self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
         self._loads = None              # (local dofs, -W T f, f) of the open slab
         self._row_cache = {}
@@ -144,12 +145,10 @@ class SlabSolver:
         """Close the slab: its energy terms, b += G z (the running sum)
         minus the force terms, u += z_2 (slab.recurrence)."""
         self._slab_work()
-        # u first: the end of the backward sweep left z in cache
-        self.end.state()
         arr = self.br
         if self.reactions is not None:
             self.reactions.carry(arr)
-        self.end.add_increment()
+        self.end.close()
         if self._loads is not None:
             arr[self._loads[0]] += self._loads[1]
             self._loads = None

@@ -118,6 +118,20 @@ class RowFiller:
         self.nnodes = mesh.nnodes
         self.series = series(model)
         self._buffers = self._state = None
+        self._copier = self._copier_buffers = None
+        self._copied = (None, None, None)
+
+    def offload(self, u, v, d, copier_of):
+        """Copy the bodies' rows of u, v and stress (d times E / h) out of
+        these arrays (the solver's own, on one rank) with the copier that
+        ``copier_of([(values, factor or None)])`` makes (bind, post;
+        :class:`vstpetsc.native.rows.RowCopier`) instead of numpy."""
+        sources = []
+        for _, _, _, nodes, pairs, factor in self.bodies:
+            sources += [(u[nodes], None), (v[nodes], None),
+                        (d[pairs], np.ascontiguousarray(factor, dtype=np.float64))]
+        self._copier = copier_of(sources)
+        self._copied = (u, v, d)
 
     def _bind(self, buffers):
         """The target arrays of ``buffers``, looked up once per buffer set."""
@@ -155,15 +169,26 @@ class RowFiller:
             if self.d is None:
                 self.d = np.empty(max(self.nnodes - 1, 0))
             d = np.subtract(u[1:], u[:-1], out=self.d)
-        views = self._views(u, v, d)
-        for (bu, bv, bs, _, _, factor), (vu, vv, vd) in zip(self._bodies, views):
-            bu[i] = vu
-            bv[i] = vv
-            np.multiply(vd, factor, out=bs[i])
+        copied = self._copied
+        if self._copier is not None and copied[0] is u and copied[1] is v and copied[2] is d:
+            self._post(buffers, i)
+        else:
+            for (bu, bv, bs, _, _, factor), (vu, vv, vd) in zip(self._bodies,
+                                                                self._views(u, v, d)):
+                bu[i] = vu
+                bv[i] = vv
+                np.multiply(vd, factor, out=bs[i])
         for law, targets in self._laws:
             values = law.values(u)
             for target, key in targets:
                 target[i] = values[key]
+
+    def _post(self, buffers, i):
+        """The bodies' row i to the copier, bound to ``buffers`` first."""
+        if self._copier_buffers is not buffers:
+            self._copier.bind([a for bu, bv, bs, *_ in self._bodies for a in (bu, bv, bs)])
+            self._copier_buffers = buffers
+        self._copier.post(i)
 
     def row(self, k, u, v, its, wall, energy, d=None):
         """{series name: value} of one row (for a single row; the run fills
