@@ -317,6 +317,7 @@ class ResultWriter:
             except (OSError, RuntimeError, ValueError) as exc:
                 self.broken = True
                 error = error or OutputFailed(self._failure(exc))
+        self.thread.stop()
         _abandon(self.f, self.broken, self.lock.fd)
         self.lock.release()
         if error is not None:
