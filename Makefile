@@ -26,7 +26,7 @@ export MPLBACKEND := agg
 install: $(STAMP) $(NATIVE)
 
 $(NATIVE): $(wildcard vstpetsc/native/*.c) $(STAMP)
-	gcc -O3 -fopenmp-simd -fPIC -shared -ffp-contract=off -pthread -Wall -Wextra -o $@ $(filter %.c,$^) -lm
+	gcc -O3 -fopenmp-simd -fPIC -shared -ffp-contract=off -Wall -Wextra -o $@ $(filter %.c,$^) -lm
 
 $(STAMP): pyproject.toml
 	@missing=$$(for p in $(DEBS); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \

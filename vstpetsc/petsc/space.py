@@ -34,6 +34,8 @@ class Space:
 
     def to_rank0(self, vec):
         """All entries of ``vec`` in node order on rank 0 (None elsewhere)."""
+        if self.comm.getSize() == 1:        # one rank: the DMDA's order is the nodes'
+            return vec.getArray(readonly=True).copy()
         if self._to_zero is None:
             self._nat = self.da.createNaturalVec()
             self._to_zero, self._zero = PETSc.Scatter.toZero(self._nat)
