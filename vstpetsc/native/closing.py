@@ -37,7 +37,7 @@ class SlabClose:
 
     def __init__(self, lib, solver, ops):
         band = slab.increment_bands(ops, solver.dt, 0, ops.m_diag.size)   # (n, 2, 3)
-        rows = [np.ascontiguousarray(band[:, :, j]).ravel() for j in range(3)]
+        rows = [_doubles(band[:, :, j]).ravel() for j in range(3)]    # per dof row
         # strain 1/2 sum (-k_off) d^2
         energy = [_doubles(a) for a in (ops.m_diag, ops.m_off, -ops.k_off)]
         env = solver.envelope
@@ -57,7 +57,7 @@ class SlabClose:
 
     def close(self):
         """u += z_2, v = V_1 z, the elongations and their envelopes, the
-        state's energies and b += G z, in one pass."""
+        state's energies and b += G z, in one call."""
         self.lib.vst_close(self.ref)
 
     def velocities(self):
