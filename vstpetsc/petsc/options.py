@@ -110,7 +110,8 @@ class SolverOptions:
       blocks of rows written to the result file (0: every kept row);
     - ``-vst_native 0``: the Python path instead of the compiled kernels
       (:mod:`vstpetsc.native`: the Newton for penalty pairs, the end of a
-      slab on one rank; the same answer to rounding).
+      slab and the copies of kept rows on one rank; the same answer to
+      rounding).
     """
 
     mat_type: str = "baij"
