@@ -11,8 +11,8 @@ DEBS  := python3-petsc4py python3-mpi4py python3-h5py python3-numpy python3-scip
          python3-setuptools python3-pip libpetsc-real3.18-dev openmpi-bin gcc libc6-dev
 STAMP := $(VENV)/.installed
 # the compiled kernels (vstpetsc/native: the Newton for penalty pairs, the
-# end of a slab); no fused multiply-adds, so that they repeat the Python
-# path's arithmetic
+# end of a slab, the copies of kept rows); no fused multiply-adds, so that
+# they repeat the Python path's arithmetic
 NATIVE := vstpetsc/native/libvstnative.so
 
 # OpenMPI refuses root without these; oversubscribe lets 2 ranks share 1 core.

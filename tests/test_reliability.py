@@ -297,3 +297,23 @@ def test_a_block_failing_on_the_writer_thread(tmp_path):
     r = Result(out)
     assert 0 < kept < 60 and int(r.solver["slab"][-1]) == kept and r.time.size == kept + 1
     assert r.status == "killed"     # HDF5 failed: left unclosed, read as after a kill
+
+
+def test_a_file_that_cannot_be_created_leaves_no_writer_thread(tmp_path, monkeypatch):
+    """The first block is written on the writer's thread; when the file
+    then cannot be published, the run stops with InputError, nothing is
+    left under the name, and the thread ends with the file."""
+    import threading
+
+    from vstpetsc import InputError, run
+    from vstpetsc.results import files
+
+    def refuse(self, fd):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(files.OutputLock, "publish", refuse)
+    out = tmp_path / "r.h5"
+    with pytest.raises(InputError, match="cannot create"):
+        run(make_case(0.01, 0.1, [bar("a", (0.0, 1.0), 10, v0=1.0)]), out, quiet=True)
+    assert not out.exists()
+    assert not [t for t in threading.enumerate() if t.name == "vstpetsc-block"]

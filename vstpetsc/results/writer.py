@@ -176,6 +176,8 @@ class ResultWriter:
         except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
             hdf5_failed = (self.broken if self is not None else
                            not isinstance(exc, (DiskFull, InputError)))
+            if self is not None:           # its block thread ends with the file
+                self.thread.stop()
             _abandon(f, hdf5_failed)
             if fd is not None and lock.fd is None:
                 os.close(fd)
