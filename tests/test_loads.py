@@ -408,7 +408,7 @@ BAD = [
                                                                   "initial": "static"}},
      "gravity.initial: \"static\" computes the initial displacements"),
     ("static with a free body", {"gravity": {"g": -1.0, "initial": "static"}},
-     "some body is free to move"),
+     "is free to move as a whole"),
 ]
 
 

@@ -113,10 +113,10 @@ class TimeLoop:
         self.talk = comm.getRank() == 0 and not quiet
         self.out, self.err = out, err
         self.model = model_mod.build_model(case)
-        self.static_u = None
+        self.static = None
         if case.gravity is not None and case.gravity.initial == "static":
-            self.static_u, reactions = static_state(self.model)
-            self.model.laws.append(reactions)
+            self.static = static_state(self.model, case.dt)
+            self.model.laws.append(self.static.reactions)
         self.start = time.perf_counter()
         options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
         self.loads = SlabLoads(self.model.laws, case.dt)
@@ -146,8 +146,8 @@ class TimeLoop:
         else:
             k0, rhs, envelopes = 0, None, None
             u, v = model_mod.initial_state(model)
-            if self.static_u is not None:
-                u = u + self.static_u
+            if self.static is not None:
+                u, v = u + self.static.u, v + self.static.v
             self.energy.start(u, v)
         energy0 = self.energy.initial
         self.solver.set_state(u, v, envelopes)

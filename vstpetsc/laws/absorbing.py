@@ -39,6 +39,12 @@ class Absorbing(EndLaw):
     def held_nodes(self):
         return [self.node]
 
+    def static_loads(self):
+        """None: the incident wave is a motion of the rock below, not a
+        load the static state carries (the rock carries the static load,
+        see HeldReactions)."""
+        return []
+
     def describe(self):
         wave = "" if self.incident.is_zero else ", incident wave"
         return f"{super().describe()} (impedance {self.impedance:.6g}{wave})"

@@ -13,7 +13,10 @@ right-hand side):
   history on one node) and :class:`FieldLoad` (a vector times a history),
   integrated exactly against the time shape functions every slab;
 - ``held_nodes()``: nodes held fixed while the static initial state is
-  computed (their reactions then act as constant forces).
+  computed (their reactions then act as constant forces);
+- ``static_loads()``: the loads the static initial state carries, at their
+  t = 0 values (default: those whose history is constant; the others act
+  from t = 0 as after a start from rest).
 
 Nonlinear part, on the law's few ``nodes`` with ``signs`` c_k: the law
 sees two reduced coordinates y^a = sum_k c_k v_k^a (a = 1, 2: the slab's
@@ -29,7 +32,8 @@ closes), and its terms in the slab equations of node k are c_k f^a(y):
 - ``finish_slab(t0, dt)``: after convergence (the last ``force`` call was at
   the converged coordinates): update its state and what it reports;
 - ``static(u)``: (residual, tangent) on its nodes for the static initial
-  state.
+  state; ``static_limit(u)``: a line naming the law's key when it cannot
+  carry its share of the static load (None: it can).
 
 Result file: ``group`` (e.g. "contact/0", None for nothing), ``series``
 (its scalar datasets per kept row), ``attrs()`` and ``values(u)``; a restart
@@ -88,6 +92,16 @@ class Law:
 
     def held_nodes(self):
         return []
+
+    def static_loads(self):
+        """The loads that a static start carries: those constant in time
+        (a load that changes is dynamic from t = 0, as after a start from
+        rest, so that a static start is the static state plus the response
+        to everything that moves)."""
+        return [load for load in self.loads() if load.history.is_constant]
+
+    def static_limit(self, u):
+        return None
 
     def describe(self):
         """One line for the run header."""

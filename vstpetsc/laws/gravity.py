@@ -20,6 +20,11 @@ class Gravity(Law):
         lumped[1:] += ops.m_off
         return [FieldLoad(lumped, self.g)]
 
+    def static_loads(self):
+        """The weight at g(0), whatever g does later: a static start is the
+        state under the initial gravity, and g(t) - g(0) acts dynamically."""
+        return self.loads()
+
     def describe(self):
         g = self.g
         what = f"g = {g.f[0]:g}" if g.is_constant else f"g(t) ({g.t.size} points)"

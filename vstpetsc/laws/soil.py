@@ -107,6 +107,7 @@ class SoilNode(Law):
         self.tally = [0.0]             # energy its table's nodes took (shared, see SoilReport)
         self.impulse = 0.0
         self.last = None
+        self.where = "soil"             # the table, for messages (set by build)
 
     def start_slab(self, u, dt):
         self.wn = float(self.signs[0] * u[0])
@@ -151,6 +152,16 @@ class SoilNode(Law):
         lo = 0.0 if self.toe else -self.Ru
         clipped = min(max(Rs, lo), self.Ru)
         return np.array([s * clipped]), np.array([[self.k * (clipped == Rs)]])
+
+    def static_limit(self, u):
+        """A line when the node's static resistance is at its capacity."""
+        Rs = self.k * (self.signs[0] * u[0] - self.p)
+        if Rs < self.Ru and (self.toe or Rs > -self.Ru):
+            return None
+        return (f"{self.where}.capacity: the soil cannot carry the static load: it yields "
+                f"at node {int(self.nodes[0])} (capacity {self.Ru:.6g} there); a static "
+                "start needs the soil elastic, so the capacity must exceed the pile's "
+                "share of the static load with a margin")
 
     def finish_slab(self, t0, dt):
         if self.last is None:
@@ -225,6 +236,8 @@ def build(spec, index, case, mesh):
         toe = SoilNode(mesh.end_node(b, toe_end), direction, toe_ru, spec.toe["quake"],
                        spec.toe["damping"], True, case.dt)
     report = SoilReport(index, shaft, toe, case.dt)
+    for node in report.nodes_all:
+        node.where = f"soil[{index}]"
     return shaft + ([toe] if toe else []) + [report]
 
 
