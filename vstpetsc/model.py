@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vstpetsc.laws import build_laws
+from vstpetsc.schema import MASSES
 
 
 @dataclass
@@ -28,6 +29,9 @@ class Mesh:
         element midpoints).
     alpha, beta : (ne,) Rayleigh coefficients of the element's body.
     kf, cf : (ne,) foundation stiffness and damping per length.
+    mass_off : (ne,) the off-diagonal o of the element mass matrix
+        rho A h / 12 [[6 - o, o], [o, 6 - o]] (2: consistent, 1: averaged,
+        0: lumped).
     """
 
     x: np.ndarray
@@ -42,6 +46,7 @@ class Mesh:
     beta: np.ndarray
     kf: np.ndarray
     cf: np.ndarray
+    mass_off: np.ndarray
 
     @property
     def nnodes(self):
@@ -148,21 +153,24 @@ def build_mesh(bodies):
                 profile("rho"), constant([b.damping[0] for b in bodies]),
                 constant([b.damping[1] for b in bodies]),
                 constant([b.foundation[0] for b in bodies]),
-                constant([b.foundation[1] for b in bodies]))
+                constant([b.foundation[1] for b in bodies]),
+                constant([MASSES[b.mass] for b in bodies]))
 
 
 def element_operators(mesh):
-    """Consistent mass M_e = rho A h / 6 [[2, 1], [1, 2]], stiffness
+    """Mass M_e = rho A h / 12 [[6 - o, o], [o, 6 - o]] (o = 2: consistent,
+    rho A h / 6 [[2, 1], [1, 2]], bit for bit; 1: averaged; 0: lumped), stiffness
     K_e = E A / h [[1, -1], [-1, 1]], Rayleigh and foundation dashpots
     C_e = alpha M_e + beta K_e + c_f h / 6 [[2, 1], [1, 2]] and foundation
     springs S_e = k_f h / 6 [[2, 1], [1, 2]], assembled."""
-    me = mesh.rho * mesh.A * mesh.h / 6.0
+    twelfth = mesh.rho * mesh.A * mesh.h / 12.0
+    md, mo = twelfth * (6.0 - mesh.mass_off), twelfth * mesh.mass_off
     ke = mesh.E * mesh.A / mesh.h
     ce = mesh.cf * mesh.h / 6.0
     se = mesh.kf * mesh.h / 6.0
-    return Operators(*assemble(mesh, 2 * me, me),
-                     *assemble(mesh, mesh.alpha * 2 * me + mesh.beta * ke + 2 * ce,
-                               mesh.alpha * me - mesh.beta * ke + ce),
+    return Operators(*assemble(mesh, md, mo),
+                     *assemble(mesh, mesh.alpha * md + mesh.beta * ke + 2 * ce,
+                               mesh.alpha * mo - mesh.beta * ke + ce),
                      *assemble(mesh, ke, -ke), *assemble(mesh, 2 * se, se))
 
 

@@ -18,7 +18,10 @@ ENDS = ("left", "right")
 UNITS = {"length": "m", "time": "s", "mass": "kg"}
 TOP = ("time", "output", "body", "contact", "bc", "units", "gravity", "gauge", "soil")
 GAUGE_KEYS = ("name", "body", "x")
-BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0", "damping", "foundation")
+BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0", "damping", "foundation",
+             "mass")
+# the element mass matrix rho A h / 12 [[6 - o, o], [o, 6 - o]] by its off-diagonal o
+MASSES = {"consistent": 2.0, "averaged": 1.0, "lumped": 0.0}
 INITIAL = ("rest", "static")
 MAX_SLABS = 1e12          # beyond any run; guards int() and memory against typos
 MAX_ELEMENTS = 10**8      # per body
@@ -41,6 +44,7 @@ class Body:
     u0: History = field(default_factory=History)
     damping: tuple = (0.0, 0.0)
     foundation: tuple = (0.0, 0.0)
+    mass: str = "consistent"
 
 
 @dataclass
@@ -244,7 +248,9 @@ def _body(chk, tbl, i, names):
     fields = (name, x, ne, E, rho, area,
               chk.history(tbl, "v0", where, "x"), chk.history(tbl, "u0", where, "x"),
               _pair_of(chk, tbl, "damping", where, ("alpha", "beta")),
-              _pair_of(chk, tbl, "foundation", where, ("stiffness", "damping")))
+              _pair_of(chk, tbl, "foundation", where, ("stiffness", "damping")),
+              chk.string(tbl, "mass", where, required=False, default="consistent",
+                         choices=tuple(MASSES)))
     return name, None if any(f is None for f in fields) else Body(*fields)
 
 
