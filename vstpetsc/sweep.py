@@ -150,6 +150,9 @@ def sweep(case, settings, folder, options=(), comm=None, ranks_per_run=1):
     InputError
         ``folder`` cannot be made or written, or another sweep writes into
         it (on every rank).
+    SolveFailed
+        ``summary.csv`` cannot be written, or a rank's runs raised (on
+        every rank; that rank raises its own error).
     """
     from vstpetsc import petsc
 
@@ -218,6 +221,7 @@ def _take_folder(folder):
 
 
 def _write_summary_or_fail(folder, rows, keys):
+    """write_summary into ``folder``; SolveFailed (exit 3) if it cannot."""
     path = os.path.join(folder, "summary.csv")
     try:
         write_summary(path, rows, keys)
