@@ -214,3 +214,31 @@ def disk_full(folder, case, reference, size_kb):
     if p.returncode != 0 or not same_end(moved, reference):
         return False, f"{detail}; moved and restarted: exit {p.returncode} {p.stderr.strip()}"
     return True, f"{detail}; moved to a big disk, restart equal bit for bit"
+
+
+def simultaneous_sweeps(folder, case, delay=0.0):
+    """Two sweeps into one new folder, the second started ``delay`` seconds
+    after the first: one sweeps, the other stops with one line before it
+    touches a run (or, if the first had finished, finds every run done);
+    no completed run is called failed."""
+    out = os.path.join(folder, f"sweep-{time.monotonic_ns()}")
+    command = [VSTPETSC, "sweep", str(case), "--set", "time.end=1.0,1.5", "-o", out, "--quiet"]
+    runs = [subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)]
+    time.sleep(delay)
+    runs.append(subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                 text=True))
+    results = [(p.returncode, err) for p in runs for _, err in [p.communicate(timeout=300)]]
+    codes = sorted(code for code, _ in results)
+    if codes not in ([0, 2], [0, 0]):
+        return False, f"exit statuses {codes}: {[err.strip()[-200:] for _, err in results]}"
+    refused = [err for code, err in results if code == 2]
+    if refused and (not one_clean_line(refused[0]) or "another sweep" not in refused[0]):
+        return False, f"the refused sweep said: {refused[0].strip()}"
+    from vstpetsc.sweep import read_summary
+    _, data = read_summary(os.path.join(out, "summary.csv"))
+    statuses = data["status"] + [vstpetsc.Result(os.path.join(out, f)).status
+                                 for f in data["file"]]
+    if statuses != ["completed"] * 4:
+        return False, f"statuses in summary.csv and the files: {statuses}"
+    how = "one refused (exit 2)" if refused else "the second found every run done"
+    return True, f"{how}; every run completed and so labelled"

@@ -11,6 +11,7 @@ input raises :class:`vstpetsc.CaseError` with one line per problem.
 """
 
 import copy
+import hashlib
 import numbers
 import os
 import tomllib
@@ -45,6 +46,9 @@ class Case:
         The TOML text (the file's own text for :meth:`from_toml`).
     source : str
         Where the case came from (a path, or "<dict>").
+    input_digests : dict
+        {history file as named from :attr:`folder`: SHA-256 of its contents
+        when the case was read}: what the case reads besides its text.
     folder : str
         The folder relative paths in the case refer to.
     """
@@ -59,6 +63,7 @@ class Case:
         self.folder = os.path.abspath(folder or os.getcwd())
         for key, value in schema.read(self.doc, self.folder).items():
             setattr(self, key, value)
+        self.input_digests = _digests(self.input_files, self.folder)
         self.text = toml_text.dumps(self.doc) if text is None else text
         self.source = source
 
@@ -110,14 +115,29 @@ class Case:
         ``contact.<k>.<key>``, ``bc.<k>.<key>``, ``soil.<k>.<key>`` (k counts
         from 0 in case order); deeper keys (``body.bar.damping.alpha``) too.
         """
+        self.check_path(path)
         doc = self.to_dict()
         table, key = _locate(doc, path)
         table[key] = value
         return Case(doc, source=self.source, folder=self.folder)
 
     def check_path(self, path):
-        """CaseError unless ``path`` can name a value (see :meth:`with_value`)."""
-        _locate(self.to_dict(), path)
+        """CaseError unless ``path`` can name a value (see :meth:`with_value`):
+        its tables exist and its key is one the table allows (a misspelled
+        key is named with the closest allowed one, whatever the value)."""
+        doc, created = self.to_dict(), []
+        table, key = _locate(doc, path, created)
+        if key in table and not created:
+            return
+        table[key] = 0          # any value: only whether the key is allowed counts
+        try:
+            Case(doc, source=self.source, folder=self.folder)
+        except CaseError as exc:
+            for new in created + [key]:
+                unknown = _unknown_key(exc.problems, new)
+                if unknown is not None:
+                    what = "unknown key" if new == key else f"unknown key {new!r}"
+                    raise CaseError([f"{path}: {what}{unknown}"]) from None
 
     @property
     def output_file(self):
@@ -149,8 +169,36 @@ class Case:
         return f"<Case {self.source}: {len(self.bodies)} bodies ({names}), {self.nslabs} slabs>"
 
 
-def _locate(doc, path):
-    """The table holding the last key of dotted ``path``, and that key."""
+def _digests(paths, folder):
+    """{path relative to ``folder``: hex SHA-256 of the file} ("" for a file
+    that vanished since it was read)."""
+    out = {}
+    for path in paths:
+        try:
+            with open(path, "rb") as f:
+                digest = hashlib.file_digest(f, "sha256").hexdigest()
+        except OSError:
+            digest = ""
+        out[os.path.relpath(path, folder)] = digest
+    return out
+
+
+def _unknown_key(problems, key):
+    """The hint of the checker's "unknown key" line about ``key`` (what
+    follows "unknown key"), or None if no problem says ``key`` is unknown.
+    Only that key's line counts: a placeholder value may make other keys
+    of its table unknown (a missing ``formulation`` set to 0)."""
+    for problem in problems:
+        name, _, what = problem.partition(": ")
+        if (name == key or name.endswith(f".{key}")) and what.startswith("unknown key"):
+            return what[len("unknown key"):]
+    return None
+
+
+def _locate(doc, path, created=None):
+    """The table holding the last key of dotted ``path``, and that key;
+    tables the path names that are missing are made (their names appended
+    to ``created``)."""
     parts = str(path).split(".")
     if len(parts) < 2 or "" in parts:
         raise CaseError([f"{path}: a path is table.key, e.g. time.dt or body.<name>.v0"])
@@ -163,6 +211,8 @@ def _locate(doc, path):
         nxt = node.get(part) if isinstance(node, dict) else None
         if nxt is None and isinstance(node, dict) and part not in ARRAYS:
             nxt = node[part] = {}
+            if created is not None:
+                created.append(part)
         if not isinstance(nxt, dict):
             raise CaseError([f"{path}: {'.'.join(parts[:i + 1])} is not a table"])
         node, i = nxt, i + 1

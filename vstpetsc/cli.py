@@ -335,8 +335,6 @@ def _sweep(rest):
         raise UsageError("sweep: give CASE.toml and at least one --set KEY=V1,V2,...")
     case = vstpetsc.Case.from_toml(opts["case"])
     folder = opts["output"] or os.path.splitext(opts["case"])[0] + "-sweep"
-    if any(not c.isprintable() for c in folder):
-        raise UsageError("-o: the path contains a control character")
     per = opts["ranks-per-run"] or "1"
     if not per.isdigit():
         raise UsageError(f"--ranks-per-run: a positive whole number, got {per!r}")

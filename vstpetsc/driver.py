@@ -2,6 +2,7 @@
 progress, signals and restarts.  :func:`run` is the library's entry point;
 the command line is a thin shell over it.  Collective over ``comm``."""
 
+import json
 import signal
 import sys
 
@@ -172,7 +173,9 @@ class TimeLoop:
     def _attrs(self, petsc_options):
         """The root attributes of the result file."""
         case = self.case
-        return {"case": case.text, "case_folder": case.folder, "petsc_options": petsc_options,
+        return {"case": case.text, "case_folder": case.folder,
+                "input_digests": json.dumps(case.input_digests, sort_keys=True),
+                "petsc_options": petsc_options,
                 "mpi_size": self.comm.getSize(), "formulation": layout.formulation(self.model),
                 "dt": case.dt, "slabs": case.nslabs, "every": case.every,
                 **{f"unit_{k}": v for k, v in case.units.items()},

@@ -5,15 +5,19 @@ shared out over the ranks (one rank a run), one summary row a run
     rows = vstpetsc.sweep(case, {"body.bar.v0": [1, 2, 4]}, "out")
 
 Each run writes ``out/run-<i>.h5``; rank 0 writes ``out/summary.csv``.  A
-run whose file is complete and holds the same case is not run again, so a
-killed sweep continues where it stopped.  A run that fails (bad value,
+run whose file is complete and holds the same case (its text, and the
+contents of the history files it reads) is not run again, so a killed
+sweep continues where it stopped.  One sweep at a time writes into a
+folder (``out/.sweep.lock``).  A run that fails (bad value,
 failed solve) is a row with status "failed" and its message; the others
 go on.
 """
 
 import csv
+import fcntl
 import io
 import itertools
+import json
 import math
 import os
 import time
@@ -23,6 +27,7 @@ import numpy as np
 from vstpetsc.errors import CaseError, InputError, SolveFailed
 
 FIXED = ("file", "status", "wall_time")
+LOCK = ".sweep.lock"     # held by the sweep writing into a folder
 
 
 def parse_setting(text):
@@ -74,14 +79,17 @@ def quantities(result):
 
 
 def _done(path, case):
-    """The Result of ``path`` if it is a completed run of ``case``."""
+    """The Result of ``path`` if it is a completed run of ``case``: the
+    same case text and the same contents of every file it reads (a history
+    file edited since is a new case)."""
     from vstpetsc.results.reader import Result
 
     try:
         result = Result(path)
-        if result.status == "completed" and result.case() == case:
+        if (result.status == "completed" and result.case() == case
+                and json.loads(result.attrs.get("input_digests", "{}")) == case.input_digests):
             return result
-    except (InputError, CaseError, KeyError, OSError):
+    except (InputError, CaseError, KeyError, OSError, ValueError):
         pass
     return None
 
@@ -133,32 +141,126 @@ def sweep(case, settings, folder, options=(), comm=None, ranks_per_run=1):
         One row per combination, in order, on every rank: the swept values,
         ``file``, ``status``, ``wall_time``, then the summary quantities
         (``message`` for a failed run).
+
+    Raises
+    ------
+    CaseError
+        A key that names no value of the case (on every rank, before
+        anything runs).
+    InputError
+        ``folder`` cannot be made or written, or another sweep writes into
+        it (on every rank).
+    SolveFailed
+        ``summary.csv`` cannot be written, or a rank's runs raised (on
+        every rank; that rank raises its own error).
     """
     from vstpetsc import petsc
 
     combos = combinations(settings)
     for key in settings:
         case.check_path(key)
+    _check_folder(folder)
     petsc.initialize([])
     comm = petsc.communicator(comm).tompi4py()
     group, groups = _groups(comm, ranks_per_run)
-    if comm.Get_rank() == 0:
-        os.makedirs(folder, exist_ok=True)
-    comm.Barrier()
+    lock = None
+    try:
+        lock = _on_root(comm, lambda: _take_folder(folder))
+        mine = _share(comm, lambda: _my_runs(case, combos, folder, options, group,
+                                             range(comm.Get_rank() // ranks_per_run,
+                                                   len(combos), groups)))
+        parts = comm.allgather(mine)
+        rows = [next(p[i] for p in parts if i in p) for i in range(len(combos))]
+        _on_root(comm, lambda: _write_summary_or_fail(folder, rows, list(settings)))
+    finally:
+        if lock is not None:
+            os.close(lock)
+        group.Free()
+    return rows
+
+
+def _my_runs(case, combos, folder, options, group, indices):
+    """{i: row} of the runs ``indices`` (this rank's group's share; the rows
+    are kept by the group's first rank)."""
     width = len(str(len(combos) - 1))
     mine = {}
-    for i in range(comm.Get_rank() // ranks_per_run, len(combos), groups):
+    for i in indices:
         path = os.path.join(folder, f"run-{i:0{width}d}.h5")
         row = {**combos[i], **run_one(case, combos[i], path, options, group)}
         if group.Get_rank() == 0:
             mine[i] = row
-    parts = comm.allgather(mine)
-    rows = [next(p[i] for p in parts if i in p) for i in range(len(combos))]
+    return mine
+
+
+def _check_folder(folder):
+    """InputError if ``folder`` cannot be a sweep's folder, decided on every
+    rank alike before anything is made."""
+    if any(not c.isprintable() for c in str(folder)):
+        raise InputError("-o: the path contains a control character")
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise InputError(f"-o {folder}: exists and is not a folder")
+
+
+def _take_folder(folder):
+    """Make ``folder`` and lock it for this sweep (a descriptor holding an
+    flock on ``folder/.sweep.lock``, which dies with the process): a second
+    sweep into the same folder would take the runs' files from under this
+    one and call its completed runs failed."""
+    try:
+        os.makedirs(folder, exist_ok=True)
+        fd = os.open(os.path.join(folder, LOCK), os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError as exc:
+        raise InputError(f"-o {folder}: cannot write there ({exc.strerror})") from None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        raise InputError(f"-o {folder}: the folder is being used by another sweep; "
+                         "nothing was changed") from None
+    return fd
+
+
+def _write_summary_or_fail(folder, rows, keys):
+    """write_summary into ``folder``; SolveFailed (exit 3) if it cannot."""
+    path = os.path.join(folder, "summary.csv")
+    try:
+        write_summary(path, rows, keys)
+    except OSError as exc:
+        raise SolveFailed(f"cannot write {path} ({exc.strerror}); the runs' files "
+                          "are kept") from None
+
+
+def _on_root(comm, action):
+    """``action()`` on rank 0 (its value there, None elsewhere); an
+    InputError or SolveFailed it raises is raised on every rank, so that no
+    rank waits for it in a later collective call."""
+    value, error = None, None
     if comm.Get_rank() == 0:
-        write_summary(os.path.join(folder, "summary.csv"), rows, list(settings))
-    comm.Barrier()
-    group.Free()
-    return rows
+        try:
+            value = action()
+        except (InputError, SolveFailed) as exc:
+            error = exc
+    error = comm.bcast(error, root=0)
+    if error is not None:
+        raise error
+    return value
+
+
+def _share(comm, action):
+    """``action()`` on every rank; if it raises on some rank, every rank
+    raises (that rank its own error, the others SolveFailed naming it)."""
+    error = None
+    try:
+        value = action()
+    except Exception as exc:        # shared below, whatever it is, then raised
+        error = exc
+    messages = comm.allgather(None if error is None else f"{type(error).__name__}: {error}")
+    if error is not None:
+        raise error
+    for rank, message in enumerate(messages):
+        if message is not None:
+            raise SolveFailed(f"sweep stopped: rank {rank}: {message}")
+    return value
 
 
 def _groups(comm, ranks_per_run):
@@ -200,14 +302,25 @@ def _cell(value):
 
 
 def read_summary(path):
-    """(header, {column: list of values}) of a summary.csv; numbers as floats."""
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        header = next(reader)
-        data = {c: [] for c in header}
-        for row in reader:
-            for c, cell in zip(header, row):
-                data[c].append(_number(cell))
+    """(header, {column: list of values}) of a summary.csv; numbers as
+    floats.  InputError for a file that is no sweep summary or holds no
+    run (empty, a header line only)."""
+    try:
+        with open(path, newline="") as f:
+            lines = list(csv.reader(f))
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror})") from None
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise InputError(f"{path}: not a CSV text file ({exc})") from None
+    header = lines[0] if lines else []
+    if not {"status", "wall_time"} <= set(header):
+        raise InputError(f"{path}: not a sweep summary (no status and wall_time columns)")
+    if len(lines) < 2:
+        raise InputError(f"{path}: holds no runs (a header line only)")
+    data = {c: [] for c in header}
+    for row in lines[1:]:
+        for c, cell in zip(header, row):
+            data[c].append(_number(cell))
     return header, data
 
 

@@ -122,8 +122,6 @@ def plot_sweep(path, out, x=None, y=None):
     from vstpetsc.sweep import read_summary
 
     header, data = read_summary(path)
-    if "wall_time" not in header:
-        raise InputError(f"{path}: not a sweep summary (no wall_time column)")
     if x is None and y is None and "blow_count_0" in header and "capacity" in header[0]:
         return bearing_graph(header, data, out)
     after = header[header.index("wall_time") + 1:]
@@ -133,6 +131,10 @@ def plot_sweep(path, out, x=None, y=None):
         if name not in header:
             raise InputError(f"{what} {name}: no such column (columns: {', '.join(header)})")
     keep = [i for i, s in enumerate(data["status"]) if s == "completed"]
+    for name, what in ((x, "--x"), (y, "--y")):
+        words = [data[name][i] for i in keep if isinstance(data[name][i], str)]
+        if words:
+            raise InputError(f"{what} {name}: a column of numbers is needed, got {words[0]!r}")
     xs, ys = (np.array([data[c][i] for i in keep], dtype=float) for c in (x, y))
     order = np.argsort(xs, kind="stable")
     fig, ax = plt.subplots(figsize=(6, 4))
