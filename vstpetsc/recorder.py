@@ -191,9 +191,16 @@ def load_restart(path, case, model, energy):
 
 
 def _check_continues(f, path, case):
-    from vstpetsc.case import Case
+    import tomllib
 
-    if Case.from_text(f.attrs["case"]).restart_key() != case.restart_key():
+    from vstpetsc.case import restart_key
+
+    try:
+        stored = tomllib.loads(f.attrs["case"])
+    except tomllib.TOMLDecodeError:
+        raise InputError(f"--restart: {path} keeps a case that is not TOML (not a vstpetsc "
+                         "result)") from None
+    if restart_key(stored) != case.restart_key():
         raise InputError(f"--restart: the case differs from the one stored in {path} "
                          "in more than time.end (and output.path)")
     every = int(f.attrs.get("every", 1))
