@@ -35,7 +35,7 @@ class HistoryChecks:
             return None if required else History()
         name = f"{where}.{key}"
         if is_number(val):
-            val = self.real(name, val)
+            val = self.real(name, val, tiny=True)
             return None if val is None else History(value=val)
         if isinstance(val, dict) and records:
             return self.record(val, name)
@@ -126,7 +126,7 @@ class HistoryChecks:
                 self.add(name, f"row {i} must be a pair of numbers [{axis}, value], "
                          f"got {show(row)}")
                 return None
-            if any(self.real(f"{name} row {i}", c) is None for c in row):
+            if any(self.real(f"{name} row {i}", c, tiny=not steps) is None for c in row):
                 return None
         a = [r[0] for r in val]
         if steps:
@@ -153,17 +153,18 @@ class Checker(HistoryChecks):
     def add(self, where, msg):
         self.problems.append(f"{where}: {msg}")
 
-    def real(self, name, val):
+    def real(self, name, val, tiny=False):
         """``val`` as a float, or None after reporting a value that is not
         finite or outside :data:`MAGNITUDE` (a TOML integer such as 10**400
-        does not even convert to a float)."""
+        does not even convert to a float); ``tiny``: any magnitude below
+        the range too (a value that only multiplies, never divides)."""
         if isinstance(val, numbers.Integral) and abs(val) > INT64:
             self.add(name, BEYOND_INT64)
             return None
         val = float(val)
         if not math.isfinite(val):
             self.add(name, f"must be finite, got {val}")
-        elif val != 0 and not MAGNITUDE[0] <= abs(val) <= MAGNITUDE[1]:
+        elif abs(val) > MAGNITUDE[1] or (not tiny and 0 < abs(val) < MAGNITUDE[0]):
             self.add(name, f"must lie in {MAGNITUDE[0]:g} .. {MAGNITUDE[1]:g} in magnitude "
                            f"(or be 0), got {val:g}")
         else:
@@ -207,7 +208,7 @@ class Checker(HistoryChecks):
                          f"unknown key ({hint}allowed: {', '.join(allowed)})")
 
     def number(self, tbl, key, where, required=True, default=None, positive=False,
-               minimum=None, maximum=None):
+               minimum=None, maximum=None, tiny=False):
         val = self.take(tbl, key, where, required, default)
         if val is MISSING:
             return None
@@ -215,7 +216,7 @@ class Checker(HistoryChecks):
         if not is_number(val):
             self.add(name, f"must be a number, got {show(val)}")
             return None
-        val = self.real(name, val)
+        val = self.real(name, val, tiny)
         if val is None:
             pass
         elif positive and val <= 0:

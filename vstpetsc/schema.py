@@ -129,7 +129,7 @@ def read_time(chk, tm):
         chk.add("time.dt", f"must lie in [{DT_RANGE[0]:g}, {DT_RANGE[1]:g}] (dt^2 enters "
                 f"the slab matrix and must be a normal double), got {dt:g}")
         dt = None
-    end = chk.number(tm, "end", "time", positive=True)
+    end = chk.number(tm, "end", "time", positive=True, tiny=True)     # compared with dt only
     nslabs = None
     if dt is not None and end is not None:
         if end <= dt:
