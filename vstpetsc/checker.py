@@ -15,9 +15,10 @@ from vstpetsc.history import History
 
 MISSING = object()
 RECORD_KEYS = ("file", "table", "column", "scale", "integrate")
-# Every number of a case is 0 or of a magnitude in this range: squares and
-# products of two such numbers stay normal doubles, so no input overflows
-# or underflows to 0 before the solver has a chance to report anything.
+# Every number of a case is 0 or of a magnitude in this range (smaller ones
+# only where a value multiplies: histories): squares and products of two
+# such numbers stay normal doubles, so no input overflows or underflows to 0
+# before the solver has a chance to report anything.
 MAGNITUDE = (1e-150, 1e150)
 INT64 = 2**63 - 1             # TOML's integers (and HDF5's attributes) are 64-bit
 BEYOND_INT64 = f"an integer beyond the 64-bit range TOML allows (at most {INT64})"
@@ -126,6 +127,7 @@ class HistoryChecks:
                 self.add(name, f"row {i} must be a pair of numbers [{axis}, value], "
                          f"got {show(row)}")
                 return None
+            # profiles (steps) are E, rho, area: divisors, no tiny values
             if any(self.real(f"{name} row {i}", c, tiny=not steps) is None for c in row):
                 return None
         a = [r[0] for r in val]
@@ -156,8 +158,8 @@ class Checker(HistoryChecks):
     def real(self, name, val, tiny=False):
         """``val`` as a float, or None after reporting a value that is not
         finite or outside :data:`MAGNITUDE` (a TOML integer such as 10**400
-        does not even convert to a float); ``tiny``: any magnitude below
-        the range too (a value that only multiplies, never divides)."""
+        does not even convert to a float); with ``tiny``, magnitudes below
+        the range are accepted (a value that only multiplies, never divides)."""
         if isinstance(val, numbers.Integral) and abs(val) > INT64:
             self.add(name, BEYOND_INT64)
             return None
