@@ -15,6 +15,13 @@ from vstpetsc.history import History
 
 MISSING = object()
 RECORD_KEYS = ("file", "table", "column", "scale", "integrate")
+# Every number of a case is 0 or of a magnitude in this range (smaller ones
+# only where a value multiplies: histories): squares and products of two
+# such numbers stay normal doubles, so no input overflows or underflows to 0
+# before the solver has a chance to report anything.
+MAGNITUDE = (1e-150, 1e150)
+INT64 = 2**63 - 1             # TOML's integers (and HDF5's attributes) are 64-bit
+BEYOND_INT64 = f"an integer beyond the 64-bit range TOML allows (at most {INT64})"
 
 
 class HistoryChecks:
@@ -29,10 +36,8 @@ class HistoryChecks:
             return None if required else History()
         name = f"{where}.{key}"
         if is_number(val):
-            if not math.isfinite(val):
-                self.add(name, f"must be finite, got {val}")
-                return None
-            return History(value=float(val))
+            val = self.real(name, val, tiny=True)
+            return None if val is None else History(value=val)
         if isinstance(val, dict) and records:
             return self.record(val, name)
         if not isinstance(val, list):
@@ -94,8 +99,9 @@ class HistoryChecks:
             return None
         name = f"{where}.{key}"
         if is_number(val):
-            if not math.isfinite(val):
-                self.add(name, f"must be finite, got {val}")
+            val = self.real(name, val)
+            if val is None:
+                pass
             elif val <= 0:
                 self.add(name, f"must be positive, got {val:g}")
             else:
@@ -121,8 +127,8 @@ class HistoryChecks:
                 self.add(name, f"row {i} must be a pair of numbers [{axis}, value], "
                          f"got {show(row)}")
                 return None
-            if not all(math.isfinite(c) for c in row):
-                self.add(name, f"row {i} must be finite, got {row}")
+            # profiles (steps) are E, rho, area: divisors, no tiny values
+            if any(self.real(f"{name} row {i}", c, tiny=not steps) is None for c in row):
                 return None
         a = [r[0] for r in val]
         if steps:
@@ -148,6 +154,24 @@ class Checker(HistoryChecks):
 
     def add(self, where, msg):
         self.problems.append(f"{where}: {msg}")
+
+    def real(self, name, val, tiny=False):
+        """``val`` as a float, or None after reporting a value that is not
+        finite or outside :data:`MAGNITUDE` (a TOML integer such as 10**400
+        does not even convert to a float); with ``tiny``, magnitudes below
+        the range are accepted (a value that only multiplies, never divides)."""
+        if isinstance(val, numbers.Integral) and abs(val) > INT64:
+            self.add(name, BEYOND_INT64)
+            return None
+        val = float(val)
+        if not math.isfinite(val):
+            self.add(name, f"must be finite, got {val}")
+        elif abs(val) > MAGNITUDE[1] or (not tiny and 0 < abs(val) < MAGNITUDE[0]):
+            self.add(name, f"must lie in {MAGNITUDE[0]:g} .. {MAGNITUDE[1]:g} in magnitude "
+                           f"(or be 0), got {val:g}")
+        else:
+            return val
+        return None
 
     def take(self, tbl, key, where, required, default=None):
         """The value of ``key`` or MISSING (reported when required)."""
@@ -186,7 +210,7 @@ class Checker(HistoryChecks):
                          f"unknown key ({hint}allowed: {', '.join(allowed)})")
 
     def number(self, tbl, key, where, required=True, default=None, positive=False,
-               minimum=None, maximum=None):
+               minimum=None, maximum=None, tiny=False):
         val = self.take(tbl, key, where, required, default)
         if val is MISSING:
             return None
@@ -194,9 +218,9 @@ class Checker(HistoryChecks):
         if not is_number(val):
             self.add(name, f"must be a number, got {show(val)}")
             return None
-        val = float(val)
-        if not math.isfinite(val):
-            self.add(name, f"must be finite, got {val}")
+        val = self.real(name, val, tiny)
+        if val is None:
+            pass
         elif positive and val <= 0:
             self.add(name, f"must be positive, got {val:g}")
         elif minimum is not None and val < minimum:
@@ -213,6 +237,9 @@ class Checker(HistoryChecks):
             return None
         if isinstance(val, bool) or not isinstance(val, numbers.Integral):
             self.add(f"{where}.{key}", f"must be a whole number, got {show(val)}")
+            return None
+        if abs(val) > INT64:
+            self.add(f"{where}.{key}", BEYOND_INT64)
             return None
         if val < minimum:
             self.add(f"{where}.{key}", f"must be >= {minimum}, got {val}")

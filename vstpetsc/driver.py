@@ -78,7 +78,10 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
     check_output(case, output)
     petsc.initialize(translate(options))
     comm = petsc.communicator(comm)
-    with scoped(options):
+    # Values near overflow make numpy warn, many times over, before the run
+    # reports them in one line: a solution that is not finite (exit 3), or
+    # energies that are not (Recorder.record).  The warnings add nothing.
+    with scoped(options), np.errstate(all="ignore"):
         loop = TimeLoop(case, output, comm, quiet, out or sys.stdout, err or sys.stderr)
         info = loop.execute(restart, " ".join(map(str, options)))
     comm.barrier()

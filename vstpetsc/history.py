@@ -136,27 +136,60 @@ def read_csv(path, column=2):
     return _checked(path, np.array(t), np.array(v))
 
 
+# The fourth header line of a PEER record: NGA-West2's "NPTS= n, DT= dt SEC"
+# or the older "n dt NPTS, DT" (numbers first).
+AT2_HEADS = (re.compile(r"NPTS\s*=\s*(\S+?)\s*,?\s*DT\s*=\s*([^\s,]+?)\s*(?:SECS?)?(?:[\s,]|$)",
+                        re.I),
+             re.compile(r"^\s*(\S+?)\s*,?\s+(\S+?)\s*,?\s+NPTS\s*,\s*DT\b", re.I))
+# What the third header line may say the values are in; g is what vstpetsc
+# reads, anything else is refused rather than guessed (a factor of 981 or
+# 9.81 off otherwise).
+AT2_UNITS = re.compile(r"UNITS?\s*(?:OF|:|=|IN)?\s*([A-Z0-9/*^.\-]+)", re.I)
+
+
 def read_at2(path):
-    """(t, values) of a PEER NGA-West2 record: four header lines, the fourth
-    ``NPTS= n, DT= dt SEC``; sample k at t = k dt."""
+    """(t, values) of a PEER record: four header lines, the third naming
+    the units (g), the fourth ``NPTS= n, DT= dt SEC`` or ``n dt NPTS, DT``;
+    sample k at t = k dt."""
     try:
         with open(path) as f:
             lines = f.read().splitlines()
     except (OSError, UnicodeDecodeError) as exc:
         raise RecordError(f"cannot read {path} ({getattr(exc, 'strerror', exc)})") from None
-    head = lines[3] if len(lines) > 3 else ""
-    match = re.search(r"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*([-+0-9.eE]+)", head, re.I)
-    if not match:
-        raise RecordError(f"{path}: line 4 is not 'NPTS= n, DT= dt SEC': {head.strip()!r}")
-    n, dt = int(match.group(1)), float(match.group(2))
+    lines += [""] * (4 - len(lines))
+    _at2_units(path, lines[2])
+    n, dt = _at2_header(path, lines[3])
     try:
         values = np.array(" ".join(lines[4:]).split(), dtype=float)
     except ValueError as exc:
         raise RecordError(f"{path}: not a number after the header ({exc})") from None
-    if values.size < n or not dt > 0:
+    if values.size < n:
         raise RecordError(f"{path}: header says {n} samples at DT = {dt:g}, "
                           f"found {values.size}")
     return _checked(path, dt * np.arange(n), values[:n])
+
+
+def _at2_header(path, head):
+    """(n, dt) of the fourth header line."""
+    match = AT2_HEADS[0].search(head) or AT2_HEADS[1].search(head)
+    if not match:
+        raise RecordError(f"{path}: line 4 is neither 'NPTS= n, DT= dt SEC' nor "
+                          f"'n dt NPTS, DT': {head.strip()!r}")
+    text_n, text_dt = (g.rstrip(",") for g in match.groups())
+    if not text_n.isdigit():
+        raise RecordError(f"{path}: line 4: NPTS is not a whole number: {text_n!r}")
+    if not _numeric(text_dt) or not 0 < float(text_dt) < float("inf"):
+        raise RecordError(f"{path}: line 4: DT is not a positive number: {text_dt!r}")
+    return int(text_n), float(text_dt)
+
+
+def _at2_units(path, line):
+    """Nothing if line 3 names no units or names g; RecordError otherwise."""
+    match = AT2_UNITS.search(line)
+    if match and match.group(1).rstrip(".,;").upper() != "G":
+        raise RecordError(f"{path}: line 3: values in {match.group(1)}; vstpetsc reads PEER "
+                          "records in g only (convert the file, or give it as a CSV with "
+                          "its scale)")
 
 
 def _checked(path, t, v):
@@ -176,7 +209,11 @@ def _column_index(path, header, column):
         if header is None or column not in header:
             known = ", ".join(header) if header else "none (no header line)"
             raise RecordError(f"{path}: no column named {column!r} (columns: {known})")
-        return header.index(column)
+        index = header.index(column)
+        if index == 0:
+            raise RecordError(f"{path}: column {column!r} is the time column; name a column "
+                              "of values")
+        return index
     index = int(column) - 1
     if index < 1:
         raise RecordError(f"{path}: column {column} is time; give 2 or more")

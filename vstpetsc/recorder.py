@@ -2,11 +2,12 @@
 with the restart state, closed with a status) and the restart from it.
 Every rank calls these methods; rank 0's verdicts reach every rank."""
 
+import math
 import time
 
 import numpy as np
 
-from vstpetsc.errors import InputError
+from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.gauges import Gauges
 from vstpetsc.results import layout
 
@@ -121,6 +122,11 @@ class Recorder:
             u, v = state
             d = self.solver.elongation()
             energy = self.energy.row(u, v, totals, d, self.solver.state_energies())
+        # a row beyond the range of doubles is not kept: the run fails on it
+        if self.space.max_over_ranks(int(self.rank0 and not _finite(energy))):
+            raise SolveFailed(f"slab {k}: the energies are not finite (values beyond the "
+                              "range of a double)")
+        if self.rank0:
             buffers, i = self.writer.slot()
             self.rows.fill(buffers, i, k, u, v, its, time.perf_counter() - self.start, energy, d)
         if self.space.max_over_ranks(int(self.rank0 and self.writer.due())):
@@ -153,6 +159,12 @@ class Recorder:
             groups = {law.group: law.final_attrs() for law in self.model.recorded
                       if hasattr(law, "final_attrs")}
             writer.close(status, snapshots, slab, groups=groups, slabs_done=slab, **attrs)
+
+
+def _finite(energy):
+    """Whether every energy is finite (a sum of floats: one inf or NaN
+    makes it inf or NaN; cheap enough for every kept row)."""
+    return math.isfinite(sum(energy.values()))
 
 
 def load_restart(path, case, model, energy):
@@ -191,9 +203,16 @@ def load_restart(path, case, model, energy):
 
 
 def _check_continues(f, path, case):
-    from vstpetsc.case import Case
+    import tomllib
 
-    if Case.from_text(f.attrs["case"]).restart_key() != case.restart_key():
+    from vstpetsc.case import restart_key
+
+    try:
+        stored = tomllib.loads(f.attrs["case"])
+    except tomllib.TOMLDecodeError:
+        raise InputError(f"--restart: {path} keeps a case that is not TOML (not a vstpetsc "
+                         "result)") from None
+    if restart_key(stored) != case.restart_key():
         raise InputError(f"--restart: the case differs from the one stored in {path} "
                          "in more than time.end (and output.path)")
     every = int(f.attrs.get("every", 1))

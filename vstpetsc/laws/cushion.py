@@ -23,6 +23,7 @@ with 3-point Gauss (cubic integrands: exact).  The tangent includes M's
 dependence on the slab's velocities when M is reached inside the slab.
 """
 
+from vstpetsc.checker import MAGNITUDE
 from vstpetsc.laws.gap import GAUSS, closed_somewhere, gap_coefficients, roots01
 from vstpetsc.laws.pair import PairLaw
 
@@ -36,6 +37,11 @@ def read(chk, tbl, where):
     e = chk.number(tbl, "restitution", where, required=False, default=1.0, positive=True)
     if e is not None and e > 1.0:
         chk.add(f"{where}.restitution", f"must lie in (0, 1], got {e:g}")
+        e = None
+    elif e is not None and k is not None and not k / e / e <= MAGNITUDE[1]:
+        # the unloading stiffness k / e^2 must stay a number the solver can use
+        chk.add(f"{where}.restitution", f"too small for stiffness {k:g}: the unloading "
+                f"stiffness / restitution^2 exceeds {MAGNITUDE[1]:g}, got {e:g}")
         e = None
     return None if k is None or e is None else {"stiffness": k, "restitution": e}
 
