@@ -201,6 +201,19 @@ def test_restart_with_a_csv_history_from_another_folder(tmp_path):
                                rtol=1e-12, atol=1e-12), key
 
 
+def test_restart_after_a_history_file_changed_is_refused(tmp_path):
+    case = uplift_copy(tmp_path / "case", 0.01)
+    out = tmp_path / "r.h5"
+    assert cli("run", case, "-o", out, "--quiet").returncode == 0
+    case.write_text(case.read_text().replace("\nend = 0.01\n", "\nend = 0.02\n"))
+    csv = case.parent / "uplift-base.csv"
+    lines = csv.read_text().splitlines()
+    csv.write_text("\n".join(lines[:-1]) + "\n")        # one sample fewer
+    p = cli("run", case, "--restart", out, "--quiet")
+    assert p.returncode == 2 and one_clean_line(p.stderr), p.stderr
+    assert "uplift-base.csv changed since" in p.stderr
+
+
 # -- item 14: values near overflow end in one line, without numpy warnings --
 
 def run_cli(tmp_path, doc):
@@ -228,3 +241,10 @@ def test_energies_beyond_doubles_fail_the_run(tmp_path):
     assert p.returncode == 3 and "Warning" not in p.stderr, p.stderr
     assert one_clean_line(p.stderr) and "energies are not finite" in p.stderr, p.stderr
     assert vstpetsc.Result(tmp_path / "r.h5").status == "failed"
+
+
+def test_every_on_the_command_line_beyond_64_bits_is_refused(tmp_path):
+    case = uplift_copy(tmp_path / "case", 0.001)
+    p = cli("run", case, "-o", tmp_path / "r.h5", "--every", str(2 ** 63))
+    assert p.returncode == 2 and one_clean_line(p.stderr) and "--every" in p.stderr
+    assert not (tmp_path / "r.h5").exists()

@@ -9,6 +9,8 @@ import os
 import shutil
 import sys
 
+from vstpetsc.checker import INT64
+
 USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [--dry-run]
                     [--restart RESULT.h5] [PETSc options ...]
        vstpetsc example [NAME [-o CASE.toml]]   list the bundled cases, or write one
@@ -161,8 +163,9 @@ def _run(rest):
     # reaches the same verdict, so no rank waits in a collective call.
     case = Case.from_toml(opts["case"])
     if opts["every"] is not None:
-        if not opts["every"].isdigit() or int(opts["every"]) < 1:
-            raise UsageError(f"--every: must be a whole number >= 1, got {opts['every']!r}")
+        if not opts["every"].isdigit() or not 1 <= int(opts["every"]) <= INT64:
+            raise UsageError(f"--every: must be a whole number in 1 .. {INT64}, "
+                             f"got {opts['every']!r}")
         case.every = int(opts["every"])
     out_path = opts["output"] or case.output_file
     if opts["restart"]:

@@ -202,6 +202,18 @@ def load_restart(path, case, model, energy):
     return k0, np.asarray(u), np.asarray(v), state or None, envelopes
 
 
+def _changed_inputs(f, case):
+    """The files the case reads whose contents differ from those the run
+    started with (files of earlier versions keep no digests: none)."""
+    import json
+
+    if "input_digests" not in f.attrs:
+        return []
+    stored = json.loads(f.attrs["input_digests"])
+    return [name for name, digest in case.input_digests.items()
+            if name in stored and stored[name] != digest]
+
+
 def _check_continues(f, path, case):
     import tomllib
 
@@ -215,6 +227,10 @@ def _check_continues(f, path, case):
     if restart_key(stored) != case.restart_key():
         raise InputError(f"--restart: the case differs from the one stored in {path} "
                          "in more than time.end (and output.path)")
+    changed = _changed_inputs(f, case)
+    if changed:
+        raise InputError(f"--restart: the history file {changed[0]} changed since {path} "
+                         "was started; continuing would mix two inputs (start a new run)")
     every = int(f.attrs.get("every", 1))
     if every != case.every:
         raise InputError(f"--restart: {path} keeps every {every} slabs; continuing with "
