@@ -1,5 +1,6 @@
 """The reliability catalogue, many times over (`make soak`): kills at random
-moments, stop signals, concurrent runs, full disks of several sizes.  The
+moments, stop signals, concurrent runs, readers of a running file, full
+disks of several sizes.  The
 same scenarios as tests/test_reliability.py (tests/faults.py), with random
 timings; writes bench/soak.json and bench/soak.md (held / total per fault).
 
@@ -38,6 +39,8 @@ def scenarios(folder, case, full, kills, rng):
                     lambda: faults.concurrent_runs(folder, case, full)))
         out.append(("two runs on one new file started together",
                     lambda: faults.simultaneous_runs(folder, case, full)))
+        out.append(("info, export --csv, plot and Result reads of a file being written",
+                    lambda: faults.read_while_running(folder)))
     for size in (600, 1500, 2500, 4000, 6000):
         out.append(("disk full (tmpfs)", lambda s=size: faults.disk_full(folder, case, full, s)))
     return out

@@ -264,25 +264,29 @@ def command_reads(out, k):
     return True, command
 
 
-def read_while_running(folder, case, least=3):
+def read_while_running(folder, end=24.0, least=3):
     """Info, export --csv, plot and Result reads, over and over, on the file
-    of a run writing a block per kept row: every one exits 0 and shows
-    series of equal lengths.  None when the run ended before ``least``
-    commands had read its file (nothing tested)."""
+    of a run (:func:`long_case` to ``end``) writing a block per kept row:
+    every one exits 0 and shows series of equal lengths.  None when the run
+    ended before ``least`` commands had read its file (nothing tested; a
+    command takes seconds on a busy machine)."""
     out = os.path.join(folder, f"read-{time.monotonic_ns()}.h5")
+    case = out[:-3] + ".toml"
+    with open(case, "w") as f:
+        f.write(long_case(end=end).to_toml())
     proc = start(case, out, "-vst_flush_interval", "0")
     if not wait_for(out, proc):
         return False, f"the run did not start: {proc.communicate()[1].strip()}"
     reads = commands = 0
     while proc.poll() is None:
-        checks = [lambda: consistent(out)] * 3 + [lambda: command_reads(out, commands)]
+        checks = [lambda: consistent(out)] * 10 + [lambda: command_reads(out, commands)]
         for check in checks:
             ok, detail = check()
             if not ok:
                 proc.kill()
                 proc.communicate()
                 return False, f"after {reads} reads and {commands} commands: {detail}"
-        reads, commands = reads + 3, commands + 1
+        reads, commands = reads + 10, commands + 1
     _, stderr = proc.communicate()
     if proc.returncode != 0:
         return False, f"the run: exit {proc.returncode}: {stderr.strip()}"

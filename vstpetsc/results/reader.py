@@ -48,6 +48,10 @@ class Result:
     path : str
         A file written by :func:`vstpetsc.run`; :class:`vstpetsc.InputError`
         if it is missing or not a vstpetsc result.
+
+    A file that a run is writing shows the rows complete in every dataset
+    when the Result was made (every series as long as ``time``, the gauge
+    series as long as each other); a new Result shows the rows since.
     """
 
     def __init__(self, path):
@@ -74,11 +78,9 @@ class Result:
             try:
                 with self._open() as f:
                     return action(f)
-            except HDF5_ERRORS as exc:
+            except HDF5_ERRORS:
                 if time.monotonic() > deadline or not held(self.path):
                     raise
-                if os.environ.get("VST_DEBUG_RETRY"):
-                    print("retry", type(exc).__name__, str(exc)[:150])
             time.sleep(0.01)
 
     def _rows_of(self, name, ds):
