@@ -1,5 +1,6 @@
 """The reliability catalogue, many times over (`make soak`): kills at random
-moments, stop signals, concurrent runs and sweeps, full disks of several sizes.  The
+moments, stop signals, concurrent runs and sweeps, readers of a running
+file, full disks of several sizes.  The
 same scenarios as tests/test_reliability.py (tests/faults.py), with random
 timings; writes bench/soak.json and bench/soak.md (held / total per fault).
 
@@ -41,6 +42,8 @@ def scenarios(folder, case, full, kills, rng):
         delay = rng.choice([0.0, rng.uniform(0, 2.0)])
         out.append(("two sweeps into one folder started together",
                     lambda d=delay: faults.simultaneous_sweeps(folder, case, d)))
+        out.append(("info, export --csv, plot and Result reads of a file being written",
+                    lambda: faults.read_while_running(folder)))
     for size in (600, 1500, 2500, 4000, 6000):
         out.append(("disk full (tmpfs)", lambda s=size: faults.disk_full(folder, case, full, s)))
     return out

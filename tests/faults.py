@@ -242,3 +242,82 @@ def simultaneous_sweeps(folder, case, delay=0.0):
         return False, f"statuses in summary.csv and the files: {statuses}"
     how = "one refused (exit 2)" if refused else "the second found every run done"
     return True, f"{how}; every run completed and so labelled"
+
+
+def consistent(out):
+    """(ok, detail): a Result of ``out`` (also while a run writes it) shows
+    every kept-row series with as many rows as /time, rows that are whole
+    (time = slab dt, row by row), every gauge series with one length, at
+    least up to the last kept slab, and a summary."""
+    try:
+        r = vstpetsc.Result(out)
+        n, dt = r.time.size, float(r.attrs["dt"])
+        lengths = {"u/v/stress of " + b: {r.body(b)[k].shape[0] for k in ("u", "v", "stress")}
+                   for b in r.bodies}
+        lengths.update((g, {s.size for s in r.series(g).values()})
+                       for g in ("energy", "solver", *(f"contact/{k}" for k in range(r.ncontacts))))
+        wrong = {name: sizes for name, sizes in lengths.items() if sizes != {n}}
+        gauges = {s.size for g in r.gauges for s in r.series(f"gauge/{g}").values()}
+        slabs = r.solver["slab"]
+        r.summary()
+    except Exception as exc:                     # any traceback is the fault
+        return False, f"{type(exc).__name__}: {str(exc)[:200]}"
+    if wrong:
+        return False, f"{n} times, but {wrong}"
+    if not np.array_equal(r.time, slabs * dt):
+        return False, f"rows not whole: time and slab differ in {n} rows"
+    if len(gauges) > 1 or (gauges and gauges.pop() < slabs[-1] + 1):
+        return False, f"gauge series of lengths {sorted(gauges)}, last kept slab {slabs[-1]}"
+    return True, f"{n} rows"
+
+
+def _csv_lengths(folder):
+    """{CSV file: number of lines} of the kept-row exports in ``folder``."""
+    return {name: sum(1 for _ in open(os.path.join(folder, name)))
+            for name in os.listdir(folder) if not name.startswith(("gauge", "envelope"))}
+
+
+def command_reads(out, k):
+    """(ok, detail) of the k-th command in turn: info, export --csv (every
+    kept-row CSV file as long as the others), plot; exit 0 each."""
+    command = ("info", "export", "plot")[k % 3]
+    folder = f"{out}.csv{k}"
+    args = {"info": ("info", out), "export": ("export", out, "--csv", folder),
+            "plot": ("plot", out, "-o", f"{out}.png")}[command]
+    p = cli(*args)
+    if p.returncode != 0:
+        return False, f"{command}: exit {p.returncode}: {p.stderr.strip()[-300:]}"
+    if command == "export" and len(set(_csv_lengths(folder).values())) != 1:
+        return False, f"export: CSV files of different lengths {_csv_lengths(folder)}"
+    return True, command
+
+
+def read_while_running(folder, end=24.0, least=3):
+    """Info, export --csv, plot and Result reads, over and over, on the file
+    of a run (:func:`long_case` to ``end``) writing a block per kept row:
+    every one exits 0 and shows series of equal lengths.  None when the run
+    ended before ``least`` commands had read its file (nothing tested; a
+    command takes seconds on a busy machine)."""
+    out = os.path.join(folder, f"read-{time.monotonic_ns()}.h5")
+    case = out[:-3] + ".toml"
+    with open(case, "w") as f:
+        f.write(long_case(end=end).to_toml())
+    proc = start(case, out, "-vst_flush_interval", "0")
+    if not wait_for(out, proc):
+        return False, f"the run did not start: {proc.communicate()[1].strip()}"
+    reads = commands = 0
+    while proc.poll() is None:
+        checks = [lambda: consistent(out)] * 10 + [lambda: command_reads(out, commands)]
+        for check in checks:
+            ok, detail = check()
+            if not ok:
+                proc.kill()
+                proc.communicate()
+                return False, f"after {reads} reads and {commands} commands: {detail}"
+        reads, commands = reads + 10, commands + 1
+    _, stderr = proc.communicate()
+    if proc.returncode != 0:
+        return False, f"the run: exit {proc.returncode}: {stderr.strip()}"
+    if commands < least:
+        return None, f"the run ended after {commands} commands (fewer than {least})"
+    return True, f"{commands} commands and {reads} Result reads while it ran, all consistent"

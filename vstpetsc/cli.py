@@ -203,13 +203,15 @@ def _solve(case, out_path, petsc_args, opts):
         raise
     except SolveFailed as exc:
         raise SolveFailed(f"{exc}; result kept in {out_path} (status \"failed\")") from None
+    from vstpetsc.results.summary import energy_change
+
     info = result.run
     if _rank() == 0:
         e0, e1 = info.energy0, info.energy1
-        rel = (e1 - e0) / e0 if e0 else float("nan")
+        change = energy_change(e0, e1, info.numerical, info.peak)
         print(f"completed {info.slabs} slabs in {info.wall:.2f} s "
               f"({1e3 * info.wall / max(info.slabs, 1):.3f} ms/slab); "
-              f"energy {e0:.6g} -> {e1:.6g} ({100 * rel:+.3f} %), numerical "
+              f"energy {e0:.6g} -> {e1:.6g} ({change}), numerical "
               f"{info.numerical:.3g}; result: {out_path}", flush=True)
     return 0
 

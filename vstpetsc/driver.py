@@ -12,7 +12,7 @@ import time
 from dataclasses import dataclass
 
 from vstpetsc import model as model_mod
-from vstpetsc.energy import EnergyBook
+from vstpetsc.energy import HELD, EnergyBook
 from vstpetsc.errors import InputError, Interrupted, SolveFailed
 from vstpetsc.loading import SlabLoads
 from vstpetsc.recorder import Recorder, load_restart
@@ -28,9 +28,10 @@ class RunInfo:
 
     slabs: int          # slabs computed by this call
     wall: float         # seconds, set-up included
-    energy0: float      # the initial total energy
+    energy0: float      # kinetic + strain + spring at t = 0 (the file's first row)
     energy1: float      # kinetic + strain + spring at the last kept row
     numerical: float    # energy dissipated by the time discretisation so far
+    peak: float = 0.0   # largest |initial total + external work| at the kept rows
 
 
 def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
@@ -153,7 +154,8 @@ class TimeLoop:
             if self.static is not None:
                 u, v = u + self.static.u, v + self.static.v
             self.energy.start(u, v)
-        energy0 = self.energy.initial
+        energy0 = self.energy.held0
+        self.peak = abs(self.energy.initial)
         self.solver.set_state(u, v, envelopes)
         if rhs is not None:
             self.solver.set_restart_state(rhs)
@@ -170,8 +172,8 @@ class TimeLoop:
                             setup_time=self.setup_time)
         last = energy1 or {}
         return RunInfo(case.nslabs - k0, time.perf_counter() - self.start, energy0,
-                       sum(last.get(k, 0.0) for k in ("kinetic", "strain", "spring")),
-                       last.get("numerical", 0.0))
+                       sum(last.get(k, 0.0) for k in HELD),
+                       last.get("numerical", 0.0), self.peak)
 
     def _attrs(self, petsc_options):
         """The root attributes of the result file."""
@@ -203,6 +205,7 @@ class TimeLoop:
                 signum = self.space.max_over_ranks(stop.signum)
                 if k % case.every == 0 or k == n or signum:
                     energy1 = self.recorder.record(k, its)
+                    self._track_peak(energy1)
                 progress.update(k - k0, t1, force=k == n)
                 if signum:
                     raise Interrupted(signum, f"stopped by {signal.Signals(signum).name} "
@@ -212,6 +215,12 @@ class TimeLoop:
             self._stop(exc, k)
         progress.done()
         return energy1
+
+    def _track_peak(self, row):
+        """The largest total energy (initial + external work) so far: the
+        reference of the energy change when the run starts with none."""
+        if row is not None:
+            self.peak = max(self.peak, abs(self.energy.initial + row["external"]))
 
     def _stop(self, exc, k):
         """End a run that stopped inside the loop: close the file with the

@@ -9,7 +9,8 @@ import numpy as np
 from vstpetsc import model as model_mod
 
 SUMMED = ("damping", "external", "contact", "soil", "transferred")
-KEYS = ("kinetic", "strain", "spring") + SUMMED + ("numerical",)
+HELD = ("kinetic", "strain", "spring")       # the energy the bodies hold
+KEYS = HELD + SUMMED + ("numerical",)
 # "transferred": the work of a cushion on the pile head (pile driving), an
 # exchange between bodies, not a term of the balance
 
@@ -19,7 +20,8 @@ class EnergyBook:
 
     def __init__(self, model):
         self.model = model
-        self.initial = 0.0
+        self.initial = 0.0              # the balance's start: state + stored contact energy
+        self.held0 = 0.0                # kinetic + strain + spring at t = 0
         self.offset = dict.fromkeys(SUMMED, 0.0)
         ops = model.ops
         self.m_diag, self.m_off = ops.m_diag, ops.m_off
@@ -55,12 +57,14 @@ class EnergyBook:
         stored = sum(law.stored_energy(u) for law in self.model.recorded
                      if hasattr(law, "stored_energy"))
         self.offset["contact"] = stored
-        self.initial = sum(self.state(u, v).values()) + stored
+        self.held0 = sum(self.state(u, v).values())
+        self.initial = self.held0 + stored
 
     def restore(self, first, last):
         """Continue a run from its file: ``first`` and ``last`` map the
         energy datasets to their values in the first and the last row."""
-        self.initial = sum(float(first[k]) for k in ("kinetic", "strain", "spring", "contact"))
+        self.held0 = sum(float(first[k]) for k in HELD)
+        self.initial = self.held0 + float(first["contact"])
         self.offset = {k: float(last[k]) for k in SUMMED}
 
     def row(self, u, v, totals, d=None, known=None):

@@ -30,6 +30,11 @@ RHS_STATE = "solver/rhs_state"
 NEWTON_STATE = "solver/newton_state"    # [acted, the laws' terms f] of the last slab
 RESTART_STATE = (RHS_STATE, NEWTON_STATE)
 REQUIRED = ("time", "body", "contact", "energy", "solver")
+# root attributes: the rows (kept, and gauge rows) complete in every
+# dataset, set after each block is on disk; readers of a running file read
+# these many (results/writer.py Completed, results/reader.py)
+COMPLETE_ROWS = "complete_rows"
+COMPLETE_GAUGE_ROWS = "complete_gauge_rows"
 
 
 def body_path(name, key=None):

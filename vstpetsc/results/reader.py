@@ -1,13 +1,32 @@
 """Reading a result file: :class:`Result`, lazy (each value is read from
-the file when it is asked for, so a big file costs nothing to open)."""
+the file when it is asked for, so a big file costs nothing to open).
+
+A file being written by a run is read safely: the run grows its datasets
+before it writes their rows, one after the other, and HDF5 has no
+concurrent reader mode here (SWMR would need the newest file format and
+forbids the attributes a run writes when it ends).  So a Result reads, when
+it is opened, how many rows are complete in every dataset (the attributes
+:data:`~vstpetsc.results.layout.COMPLETE_ROWS` and ``COMPLETE_GAUGE_ROWS``
+that the writer sets after each block is on disk; the shortest dataset in
+a file without them) and shows every series cut to those many rows; and an
+HDF5 error while a run holds the file (a read that met a write half done)
+is retried.
+"""
 
 import os
+import time
 
 import h5py
+import numpy as np
 
 from vstpetsc.errors import InputError
 from vstpetsc.results import layout
 from vstpetsc.results.files import held
+
+RETRY_SECONDS = 5.0      # how long reads of a file being written are retried
+# what h5py raises for metadata read half written (retried while a run
+# holds the file); a damaged file raises these too, after no retry
+HDF5_ERRORS = (OSError, RuntimeError, KeyError)
 
 
 def text(value):
@@ -29,6 +48,10 @@ class Result:
     path : str
         A file written by :func:`vstpetsc.run`; :class:`vstpetsc.InputError`
         if it is missing or not a vstpetsc result.
+
+    A file that a run is writing shows the rows complete in every dataset
+    when the Result was made (every series as long as ``time``, the gauge
+    series as long as each other); a new Result shows the rows since.
     """
 
     def __init__(self, path):
@@ -36,12 +59,9 @@ class Result:
         if not os.path.isfile(self.path):
             raise InputError(f"{self.path}: no such file")
         try:
-            with self._open() as f:
-                missing = [k for k in layout.REQUIRED if k not in f]
-                self.bodies = [name for _, name in
-                               sorted((f[layout.body_path(n, "x")][0], n) for n in f["body"])]
-                self.ncontacts = len(f[layout.CONTACT]) if layout.CONTACT in f else 0
-        except (OSError, KeyError, IndexError, ValueError):
+            missing, self.bodies, self.ncontacts, self._rows, self._gauge_rows = \
+                self._with_file(_outline)
+        except HDF5_ERRORS + (ValueError, IndexError):
             raise InputError(f"{self.path}: not an HDF5 file, or a damaged one") from None
         if missing:
             raise InputError(f"{self.path}: not a vstpetsc result (no {', '.join(missing)})")
@@ -50,6 +70,26 @@ class Result:
         # a run may be writing the file: read it without HDF5's file lock
         return h5py.File(self.path, "r", locking=False)
 
+    def _with_file(self, action):
+        """``action(f)`` on the open file; retried for up to RETRY_SECONDS
+        while a run holds the file (its write raced this read)."""
+        deadline = time.monotonic() + RETRY_SECONDS
+        while True:
+            try:
+                with self._open() as f:
+                    return action(f)
+            except HDF5_ERRORS:
+                if time.monotonic() > deadline or not held(self.path):
+                    raise
+            time.sleep(0.01)
+
+    def _rows_of(self, name, ds):
+        """The rows of dataset ``name`` a reader sees (None: all of it, a
+        dataset that does not grow with the run)."""
+        if not ds.maxshape or ds.maxshape[0] is not None:
+            return None
+        return self._gauge_rows if layout.every_slab(name.lstrip("/")) else self._rows
+
     def __getitem__(self, name):
         """The whole dataset ``name`` (e.g. "contact/0/gap") as an array."""
         return self.read(name)
@@ -57,32 +97,38 @@ class Result:
     def read(self, name, selection=()):
         """Dataset ``name``, or the part of it that ``selection`` (an index
         expression, e.g. ``np.s_[rows, :]``) picks, as an array."""
-        with self._open() as f:
+        def part(f):
             if name not in f or not isinstance(f[name], h5py.Dataset):
-                raise KeyError(f"{self.path} has no dataset {name!r}")
-            return f[name][selection]
+                return None
+            ds = f[name]
+            rows = self._rows_of(name, ds)
+            return ds[selection] if rows is None else _rows(ds, rows, selection)
+
+        found = self._with_file(part)
+        if found is None:
+            raise KeyError(f"{self.path} has no dataset {name!r}")
+        return found
 
     def __contains__(self, name):
-        with self._open() as f:
-            return name in f
+        return self._with_file(lambda f: name in f)
 
     def keys(self, group=""):
         """Names of the datasets and groups under ``group``."""
-        with self._open() as f:
-            return list(f[group].keys()) if group else list(f.keys())
+        return self._with_file(lambda f: list(f[group].keys()) if group else list(f.keys()))
 
     def series(self, group):
         """{name: array} of the 1-D series of ``group`` (datasets that grow
         with the run), in the file's order."""
-        with self._open() as f:
-            return {k: d[...] for k, d in f[group].items()
+        def read(f):
+            return {k: _rows(d, self._rows_of(f"{group}/{k}", d), ())
+                    for k, d in f[group].items()
                     if isinstance(d, h5py.Dataset) and d.ndim == 1 and d.maxshape[0] is None}
+        return self._with_file(read)
 
     def group_attrs(self, group=""):
         """The attributes of ``group`` (strings decoded)."""
-        with self._open() as f:
-            return {k: text(v) if isinstance(v, (bytes, str)) else v
-                    for k, v in f[group or "/"].attrs.items()}
+        return self._with_file(lambda f: {k: text(v) if isinstance(v, (bytes, str)) else v
+                                          for k, v in f[group or "/"].attrs.items()})
 
     @property
     def attrs(self):
@@ -164,6 +210,46 @@ class Result:
         """The dict that `vstpetsc info` prints."""
         from vstpetsc.results.summary import summarize
         return summarize(self)
+
+
+def _outline(f):
+    """(missing required names, body names left to right, number of
+    contact pairs, complete rows, complete gauge rows) of an open file."""
+    missing = [k for k in layout.REQUIRED if k not in f]
+    bodies = [name for _, name in sorted((f[layout.body_path(n, "x")][0], n)
+                                         for n in f[layout.BODY])] if not missing else []
+    ncontacts = len(f[layout.CONTACT]) if layout.CONTACT in f else 0
+    kept, every_slab = [], []
+    f.visititems(lambda name, obj: (every_slab if layout.every_slab(name) else kept).append(
+        obj.shape[0]) if isinstance(obj, h5py.Dataset) and obj.maxshape
+        and obj.maxshape[0] is None else None)
+    counts = [min(lengths + [int(f.attrs.get(attr, np.iinfo(np.int64).max))])
+              if lengths else 0 for lengths, attr in
+              ((kept, layout.COMPLETE_ROWS), (every_slab, layout.COMPLETE_GAUGE_ROWS))]
+    return missing, bodies, ncontacts, *counts
+
+
+def _rows(ds, rows, selection):
+    """``ds[selection]`` of a dataset seen with its first ``rows`` rows only
+    (the selection's first index counts within those)."""
+    if rows is None or rows >= ds.shape[0]:
+        return ds[selection]
+    index = selection if isinstance(selection, tuple) else (selection,)
+    if any(i is Ellipsis for i in index):
+        return ds[:rows][selection]          # rare: read the rows, then pick
+    first, rest = (index[0], index[1:]) if index else (slice(None), ())
+    if isinstance(first, slice):
+        first = slice(*first.indices(rows))
+    elif np.ndim(first) == 0:
+        if not -rows <= int(first) < rows:
+            raise IndexError(f"row {first} out of range for {rows} rows")
+        first = int(first) % rows
+    else:
+        first = np.asarray(first)
+        if first.size and (first.max() >= rows or first.min() < -rows):
+            raise IndexError(f"rows out of range for {rows} rows")
+        first = np.where(first < 0, first + rows, first)
+    return ds[(first,) + tuple(rest)]
 
 
 class Group:

@@ -4,6 +4,8 @@ import numpy as np
 
 from vstpetsc.results.reader import text
 
+NO_REFERENCE = 1e-12    # e0 below this fraction of the largest total energy is no reference
+
 
 def pair_summary(group, k):
     """Contact history of pair k from its group of the result: the running
@@ -39,6 +41,8 @@ def summarize(result):
     pairs = [pair_summary(result.contact(k), k) for k in range(result.ncontacts)]
     energies = {key: result.energy[key] for key in result.energy}
     energy = energies["kinetic"] + energies["strain"] + energies.get("spring", 0.0)
+    initial = float(sum(energies[k][0] for k in ("kinetic", "strain", "spring", "contact")
+                        if k in energies and energies[k].size))
     newton = result.solver["newton_iterations"][1:]
     linear = result.solver["linear_iterations"][1:]
     return {
@@ -58,8 +62,9 @@ def summarize(result):
         "linear_mean": float(linear.mean()) if linear.size else 0.0,
         "wall_time": float(a.get("wall_time", np.nan)),
         "energy": {key: float(val[-1]) for key, val in energies.items()},
-        "energy_initial": float(sum(energies[k][0] for k in
-                                    ("kinetic", "strain", "spring", "contact") if k in energies)),
+        "energy_initial": initial,
+        "energy_peak": float(np.abs(initial + energies["external"]).max(initial=abs(initial)))
+        if "external" in energies else abs(initial),
     }
 
 
@@ -110,6 +115,21 @@ def body_summary(result, name):
     return out
 
 
+def energy_change(e0, e1, numerical, peak):
+    """The change of the energy the bodies hold (kinetic + strain + spring,
+    from e0 at the start to e1), as text: relative to e0; when e0 is no
+    reference (0 or next to nothing: a body at rest, loaded by gravity or a
+    traction), the numerical dissipation relative to ``peak``, the largest
+    total energy (initial + external work) the run reached; when that is 0
+    too, the change itself."""
+    if e0 > NO_REFERENCE * peak and e0 > 0:
+        return f"{100 * (e1 - e0) / e0:+.3f} %"
+    if peak > 0:
+        return (f"from rest: numerical {numerical:.3g} = {100 * numerical / peak:.3g} % of the "
+                f"largest total energy {peak:.6g}")
+    return f"no energy in the run: change {e1 - e0:+.3g}"
+
+
 def balance_lines(s):
     """The energy balance at the last row: what came in, where it is."""
     e = s["energy"]
@@ -154,8 +174,8 @@ def format_summary(s, path):
                   f"        force peak {p['peak_force']:.6g}, mean {p['mean_force']:.6g}; "
                   f"impulse {p['impulse']:.6g}; largest penetration {p['penetration']:.4g}"]
     e0, e1 = s["energy_start"], s["energy_end"]
-    rel = (e1 - e0) / e0 * 100 if e0 else float("nan")
-    lines.append(f"  energy: start {e0:.6g}, end {e1:.6g} ({rel:+.3f} %)")
+    change = energy_change(e0, e1, s["energy"].get("numerical", 0.0), s.get("energy_peak", 0.0))
+    lines.append(f"  energy: start {e0:.6g}, end {e1:.6g} ({change})")
     lines += balance_lines(s)
     lines.append(f"  Newton iterations per slab: mean {s['newton_mean']:.3g}, max "
                  f"{s['newton_max']}; linear solves per slab: mean {s['linear_mean']:.3g}")

@@ -28,6 +28,7 @@ from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.results import layout
 from vstpetsc.results.blocks import BlockThread
 from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
+from vstpetsc.results.layout import COMPLETE_GAUGE_ROWS, COMPLETE_ROWS
 
 BUFFER_VALUES = 1 << 20          # doubles per series buffer (8 MB; two of them with a thread)
 BUFFER_ROWS = 1 << 13            # rows a block holds at most (a block costs ~3 ms)
@@ -131,6 +132,27 @@ class Snapshots:
         return ds.id, h5py.h5a.open(ds.id, b"slab"), shape
 
 
+class Completed:
+    """The root attributes that tell readers how many rows (and gauge rows)
+    every dataset holds in full (:data:`~vstpetsc.results.layout.COMPLETE_ROWS`).
+    A dataset grows before its rows are written and HDF5 may put metadata
+    on disk in any order, so these are written only after the block's HDF5
+    flush, in place (h5py's ``attrs[...] =`` deletes and re-creates an
+    attribute), and flushed again: a reader of a running file sees a count
+    whose rows are all on disk."""
+
+    def __init__(self, f):
+        for name in (COMPLETE_ROWS, COMPLETE_GAUGE_ROWS):
+            if name not in f.attrs:
+                f.attrs.create(name, 0, dtype=np.int64)
+        self.ids = [h5py.h5a.open(f.id, name.encode())
+                    for name in (COMPLETE_ROWS, COMPLETE_GAUGE_ROWS)]
+
+    def write(self, rows, gauge_rows):
+        for attr, value in zip(self.ids, (rows, gauge_rows)):
+            attr.write(np.array(value, dtype=np.int64))
+
+
 class ResultWriter:
     """Buffered appends to an HDF5 result file, under an :class:`OutputLock`.
 
@@ -151,6 +173,7 @@ class ResultWriter:
         self.last_flush = time.monotonic()
         self.broken = False
         self.gauges = GaugeStream.of(f, _gauge_names(f))
+        self.completed = Completed(f)
 
     @classmethod
     def create(cls, path, series, statics, groups, attrs, first_row, interval=0.5,
@@ -201,7 +224,11 @@ class ResultWriter:
             f.attrs["restarts"] = int(f.attrs.get("restarts", 0)) + 1
             self = cls(f, lock, interval, lock.fd)
             if self.gauges:         # the run continues from its last kept slab
-                self.gauges.truncate(int(f["solver/slab"][-1]) + 1)
+                rows = int(f["solver/slab"][-1]) + 1
+                self.completed.write(self.n, min(rows, self.gauges.n))    # before the cut
+                f.flush()
+                self.gauges.truncate(rows)
+            self.completed.write(self.n, self._gauge_rows())
             f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             lock.release()
@@ -261,13 +288,19 @@ class ResultWriter:
         self.thread.wait()
 
     def _write(self, action, *args):
-        """``action(*args)`` and an HDF5 flush; an HDF5 error breaks the file."""
+        """``action(*args)``, an HDF5 flush, the counts of complete rows
+        (:class:`Completed`) and a flush; an HDF5 error breaks the file."""
         try:
             action(*args)
+            self.f.flush()
+            self.completed.write(self.n, self._gauge_rows())
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             self.broken = True
             raise OutputFailed(self._failure(exc)) from None
+
+    def _gauge_rows(self):
+        return self.gauges.n if self.gauges else 0
 
     def _failure(self, exc):
         kept = ("nothing written yet" if self.flushed_slab is None else
