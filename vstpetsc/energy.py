@@ -9,6 +9,7 @@ import numpy as np
 from vstpetsc import model as model_mod
 
 SUMMED = ("damping", "external", "contact", "soil", "transferred")
+SUMS = ("damping", "contact", "soil", "transferred")   # the solver's global running sums
 KEYS = ("kinetic", "strain", "spring") + SUMMED + ("numerical",)
 # "transferred": the work of a cushion on the pile head (pile driving), an
 # exchange between bodies, not a term of the balance
@@ -57,11 +58,19 @@ class EnergyBook:
         self.offset["contact"] = stored
         self.initial = sum(self.state(u, v).values()) + stored
 
-    def restore(self, first, last):
+    def restore(self, first, last, continued=False):
         """Continue a run from its file: ``first`` and ``last`` map the
-        energy datasets to their values in the first and the last row."""
+        energy datasets to their values in the first and the last row;
+        ``continued``: the solver took its running sums back (the restart
+        state), so only the stored contact energy of t = 0 is added, as in
+        the run itself (bit for bit); otherwise the sums start from the
+        rows' totals (equal to rounding)."""
         self.initial = sum(float(first[k]) for k in ("kinetic", "strain", "spring", "contact"))
-        self.offset = {k: float(last[k]) for k in SUMMED}
+        if continued:
+            self.offset = dict.fromkeys(SUMMED, 0.0)
+            self.offset["contact"] = float(first["contact"])
+        else:
+            self.offset = {k: float(last[k]) for k in SUMMED}
 
     def row(self, u, v, totals, d=None, known=None):
         """{energy dataset: value} for the state (u, v) (d, known: see
