@@ -2,6 +2,7 @@
 "Rounding"), and restarts of the cases with soil, cushions, gravity,
 absorbing or moving ends bit for bit (docs/troubleshooting.md)."""
 
+import shutil
 import signal
 
 import h5py
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from conftest import bar, make_case, solve
+from conftest import bar, make_case, solve, write_case
 from vstpetsc import bundled, driver
 from vstpetsc import model as model_mod
 from vstpetsc.errors import Interrupted
@@ -206,3 +207,20 @@ def test_completed_run_extended_bit_for_bit(tmp_path, name):
     vstpetsc.run(case.with_value("time.end", half), output=out, quiet=True)
     vstpetsc.run(case, output=out, quiet=True, restart=True)
     assert_same_files(out, full.path)
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+def test_restart_on_two_ranks_bit_for_bit(tmp_path):
+    """pile on two ranks, completed half-way and continued on two ranks:
+    every dataset equals the uninterrupted two-rank run's (each rank's
+    share of the external work is kept)."""
+    from test_parallel import mpirun
+
+    case = pile()
+    path = write_case(tmp_path, case, "pile")
+    half = write_case(tmp_path, case.with_value("time.end", 0.01), "half")
+    full, out = tmp_path / "full.h5", tmp_path / "part.h5"
+    for args in ((path, "-o", full), (half, "-o", out), (path, "--restart", out)):
+        p = mpirun("run", *args, "--quiet")
+        assert p.returncode == 0, p.stderr
+    assert_same_files(out, full)
