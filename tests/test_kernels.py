@@ -202,11 +202,16 @@ def test_running_sum_right_hand_side_equals_the_state_form(dt):
     WI, VI = np.kron(I, W), np.kron(I, V)
     assert np.allclose(block_dense(slab.slab_matrix(lay, dt, W, V)), WI @ A @ VI)
     assert np.allclose(block_dense(slab.rhs_operator(lay, dt, W)), WI @ R)
-    indptr, indices, data = slab.increment_rows(lay, dt, 0, n)
+    band = slab.increment_bands(lay, dt, 0, n)          # difference form: G's matrix
     G = np.zeros((2 * n, 2 * n))
-    for row in range(2 * n):
-        G[row, indices[indptr[row]:indptr[row + 1]]] = data[indptr[row]:indptr[row + 1]]
-    assert np.diff(indptr).max() == 3
+    for i in range(n):
+        for a in range(2):
+            row, (left, total, right) = 2 * i + a, band[i, a]
+            G[row, 2 * i + a] = total - left - right
+            if i > 0:
+                G[row, 2 * i - 2 + a] = left
+            if i < n - 1:
+                G[row, 2 * i + 2 + a] = right
     Y = rng.normal(size=2 * n)
     running = WI @ R @ Y
     for _ in range(3):

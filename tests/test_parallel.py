@@ -48,9 +48,9 @@ def assert_same_result(one, two, rtol=1e-10, exact=False, same_newton=True):
     budget = max(np.abs(x).max() for k, x in da.items() if k.startswith("energy/"))
     for key, x in da.items():
         y = db[key]
-        assert x.shape == y.shape, key
-        if key == "solver/wall_time":
+        if key in ("solver/wall_time", "solver/energy_sums"):   # the latter: a share per rank
             continue
+        assert x.shape == y.shape, key
         if exact and key.startswith(("body/", "contact/", "time", "gauge/")):
             assert np.array_equal(x, y, equal_nan=True), key
             continue

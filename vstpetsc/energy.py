@@ -9,6 +9,7 @@ import numpy as np
 from vstpetsc import model as model_mod
 
 SUMMED = ("damping", "external", "contact", "soil", "transferred")
+SUMS = ("damping", "contact", "soil", "transferred")   # the solver's global running sums
 HELD = ("kinetic", "strain", "spring")       # the energy the bodies hold
 KEYS = HELD + SUMMED + ("numerical",)
 # "transferred": the work of a cushion on the pile head (pile driving), an
@@ -60,12 +61,20 @@ class EnergyBook:
         self.held0 = sum(self.state(u, v).values())
         self.initial = self.held0 + stored
 
-    def restore(self, first, last):
+    def restore(self, first, last, continued=False):
         """Continue a run from its file: ``first`` and ``last`` map the
-        energy datasets to their values in the first and the last row."""
+        energy datasets to their values in the first and the last row;
+        ``continued``: the solver took its running sums back (the restart
+        state), so only the stored contact energy of t = 0 is added, as in
+        the run itself (bit for bit); otherwise the sums start from the
+        rows' totals (equal to rounding)."""
         self.held0 = sum(float(first[k]) for k in HELD)
         self.initial = self.held0 + float(first["contact"])
-        self.offset = {k: float(last[k]) for k in SUMMED}
+        if continued:
+            self.offset = dict.fromkeys(SUMMED, 0.0)
+            self.offset["contact"] = float(first["contact"])
+        else:
+            self.offset = {k: float(last[k]) for k in SUMMED}
 
     def row(self, u, v, totals, d=None, known=None):
         """{energy dataset: value} for the state (u, v) (d, known: see

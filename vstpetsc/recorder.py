@@ -89,15 +89,18 @@ class Recorder:
 
     def _snapshots(self, rhs=True):
         """The state a restart needs, on rank 0: the envelopes and (``rhs``)
-        the running right-hand side (collective)."""
+        the running right-hand side, Newton's start and the energy sums
+        (collective)."""
         lo_hi = self.solver.envelopes(self.model.mesh.elem_node.size)
         b = self.solver.rhs_state() if rhs else None
+        sums = self.solver.energy_sums() if rhs else None
         if not self.rank0:
             return None
         out = layout.envelope_snapshots(self.model, *lo_hi)
         if rhs:
             out[layout.RHS_STATE] = b
             out[layout.NEWTON_STATE] = self.solver.nonlinear.state()
+            out[layout.ENERGY_STATE] = sums
         return out
 
     def gauge_row(self):
@@ -193,11 +196,11 @@ def load_restart(path, case, model, energy):
                              f"{f['time'][-1]:g}); raise time.end to continue it")
         for law in model.recorded:
             law.restore(values[law.group])
-        energy.restore(first, last)
         # kept with every block; after a failed solve the last rows have
         # none and the solver starts again from (u, v), equal up to rounding
         state = {name: f[name][...] for name in layout.RESTART_STATE
                  if name in f and int(f[name].attrs["slab"]) == k0}
+        energy.restore(first, last, continued=layout.ENERGY_STATE in state)
         envelopes = layout.read_envelopes(f, model)
     return k0, np.asarray(u), np.asarray(v), state or None, envelopes
 

@@ -161,35 +161,32 @@ def recurrence(dt):
 
 
 def increment_bands(ops, dt, n0, n1):
-    """The rows of the running-sum increment G of nodes n0..n1-1 as bands
-    (nl, 2, 3): [i, 0] holds gm (M + dt/6 C)_ij on the z_1 of nodes
-    j = i-1, i, i+1, [i, 1] gk (K + S)_ij on their z_2; entries outside
-    the mesh are zero.
+    """The rows of the running-sum increment G of nodes n0..n1-1 in
+    difference form, (nl, 2, 3): row a of node i adds
+
+        [i, a, 0] (z_{i-1} - z_i) + [i, a, 1] z_i + [i, a, 2] (z_{i+1} - z_i)
+
+    of the z_1 (a = 0: gm (M + dt/6 C)) or the z_2 (a = 1: gk (K + S)) of
+    the nodes: the off-diagonal entries and the row sum.  The bars' K
+    sums to zero in every row (sum_e E A / h [[1, -1], [-1, 1]]), so its
+    product is formed from the elongation increments alone: the plain
+    product k_ii z_i + k_ij z_j of a body moving nearly as a whole rounds
+    relative to z (the displacement increment), and that rounding,
+    summed into b slab after slab, did work that no term of the energy
+    balance holds (docs/loads.md section 4).  Entries outside the mesh
+    are zero.
 
     Damping enters the first rows only: (T - I) dt HC = (dt / 6) (T - I) HM
     + ... has the pattern of XM (docs/loads.md section 3)."""
     _, _, gm, gk = recurrence(dt)
     nodes = np.arange(n0, n1)
     pad = np.zeros(1)
-    (md, mo), (kd, ko) = bands(ops, "m"), bands(ops, "k")
+    md, mo = ops.m_diag, ops.m_off
     if ops.damped:
         md, mo = md + dt / 6.0 * ops.c_diag, mo + dt / 6.0 * ops.c_off
-    m = np.column_stack([np.r_[pad, mo][nodes], md[nodes], np.r_[mo, pad][nodes]])
-    k = np.column_stack([np.r_[pad, ko][nodes], kd[nodes], np.r_[ko, pad][nodes]])
+    ko = ops.k_off + ops.s_off
+    side = lambda off: (np.r_[pad, off][nodes], np.r_[off, pad][nodes])
+    (ml, mr), (kl, kr), (sl, sr) = side(mo), side(ko), side(ops.s_off)
+    m = np.column_stack([ml, md[nodes] + ml + mr, mr])
+    k = np.column_stack([kl, ops.s_diag[nodes] + sl + sr, kr])
     return np.stack([gm * m, gk * k], axis=1)
-
-
-def increment_rows(ops, dt, n0, n1):
-    """CSR arrays (indptr, indices, data) of the running-sum increment
-    (:func:`increment_bands`), dof rows of nodes n0..n1-1: row 2i holds
-    the first band on columns 2j, row 2i+1 the second on columns 2j+1,
-    three entries a row (zeros between bodies kept).  Built directly,
-    without the 2 x 2 blocks, to keep the set-up memory small."""
-    n = ops.m_diag.size
-    cols = np.arange(n0, n1)[:, None] + np.array([-1, 0, 1])          # (nl, 3)
-    valid = (cols >= 0) & (cols < n)
-    data = increment_bands(ops, dt, n0, n1)                            # (nl, 2, 3)
-    dofs = 2 * cols[:, None, :] + np.arange(2)[None, :, None]
-    mask = np.broadcast_to(valid[:, None, :], data.shape)
-    indptr = np.concatenate(([0], np.cumsum(mask.sum(axis=2).ravel())))
-    return indptr, dofs[mask], data[mask]

@@ -3,7 +3,7 @@
  * u += z_2, v = v1 z_1 + v2 z_2, the elongations d of the node pairs,
  * their envelopes lo <= d <= hi, the energies of the state (kinetic
  * 1/2 v^T M v, strain 1/2 sum k d^2) and the running sum b += G z, G's
- * three bands (slab.increment_bands) laid out per dof row.
+ * three bands (slab.increment_bands, difference form) laid out per dof row.
  *
  * The unknowns are mixed per node: z = (z_1, z_2) at x[2i], x[2i + 1].
  * u, v, d, lo, hi and b are the Python path's bit for bit (elementwise
@@ -24,11 +24,12 @@ typedef struct {
     double kinetic, strain;    /* out */
 } Close;
 
-/* b += G z on the dof rows r = lo .. hi - 1: the products of a row summed
- * from 0, left to right (left, right: whether the neighbours x[r - 2],
- * x[r + 2] exist), then added to b, as PETSc's MatMultAdd of its AIJ and
- * SELL formats does, which the parallel path keeps: one rank and several
- * sum alike.  Inlined with constant flags, the loop has no branch. */
+/* b += G z on the dof rows r = lo .. hi - 1 in the difference form of
+ * slab.increment_bands: L (x[r - 2] - x[r]) + D x[r] + R (x[r + 2] - x[r])
+ * summed from 0, left to right (left, right: whether the neighbours
+ * exist), then added to b, as the Python path (petsc/slab_end.py) does on
+ * any number of ranks.  Inlined with constant flags, the loop has no
+ * branch. */
 static inline void band_rows(const Close *c, int lo, int hi, int left, int right)
 {
     const double *restrict L = c->left, *restrict D = c->diag, *restrict R = c->right;
@@ -38,10 +39,10 @@ static inline void band_rows(const Close *c, int lo, int hi, int left, int right
     for (int r = lo; r < hi; r++) {
         double s = 0.0;
         if (left)
-            s += L[r] * x[r - 2];
+            s += L[r] * (x[r - 2] - x[r]);
         s += D[r] * x[r];
         if (right)
-            s += R[r] * x[r + 2];
+            s += R[r] * (x[r + 2] - x[r]);
         b[r] += s;
     }
 }

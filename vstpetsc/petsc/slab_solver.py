@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from vstpetsc import slab
+from vstpetsc.energy import SUMS
 from vstpetsc.envelope import StressEnvelope
 from vstpetsc.errors import SolveFailed
 from vstpetsc.loading import SlabLoads
@@ -197,16 +198,42 @@ class SlabSolver:
 
     def set_restart_state(self, state):
         """Continue from the running right-hand side saved by rhs_state()
-        (a global array) and the Newton state of the last slab
-        ({layout name: array}, from the file), after set_state: the restart
-        is then bit for bit."""
-        from vstpetsc.results.layout import NEWTON_STATE, RHS_STATE
+        (a global array), the Newton state of the last slab and the energy
+        sums of energy_sums() ({layout name: array}, from the file), after
+        set_state: the restart is then bit for bit."""
+        from vstpetsc.results.layout import ENERGY_STATE, NEWTON_STATE, RHS_STATE
 
         n0, n1 = self.space.nodes
         if RHS_STATE in state:
             self.br[:] = state[RHS_STATE][2 * n0:2 * n1]
         if NEWTON_STATE in state:
             self.nonlinear.set_newton_state(state[NEWTON_STATE])
+        if ENERGY_STATE in state:
+            self._restore_sums(state[ENERGY_STATE])
+
+    def energy_sums(self):
+        """The running sums of the energy terms (energy.SUMS order), then
+        every rank's share of the external work, on rank 0 (None
+        elsewhere; collective)."""
+        shares = self.space.gather_on_rank0(self.local_work)
+        if shares is None:
+            return None
+        sums = {**self.work, **self.nonlinear.work}
+        return np.array([sums.get(key, 0.0) for key in SUMS] + list(shares))
+
+    def _restore_sums(self, saved):
+        """Take back the sums of :meth:`energy_sums`; on another number of
+        ranks rank 0 takes the whole external work (equal to rounding)."""
+        sums, shares = saved[:len(SUMS)], saved[len(SUMS):]
+        for key, value in zip(SUMS, sums.tolist()):
+            for work in (self.work, self.nonlinear.work):
+                if key in work:
+                    work[key] = value
+        rank, size = self.space.comm.getRank(), self.space.comm.getSize()
+        if shares.size == size:
+            self.local_work = float(shares[rank])
+        else:
+            self.local_work = float(shares.sum()) if rank == 0 else 0.0
 
     def gather_state(self):
         """(u, v) of all nodes on rank 0 (None elsewhere); v = v^2 of the

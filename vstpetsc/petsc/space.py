@@ -59,6 +59,13 @@ class Space:
             return value
         return self.comm.tompi4py().allreduce(value)
 
+    def gather_on_rank0(self, value):
+        """Every rank's ``value`` (a number) in rank order, on rank 0 (None
+        elsewhere)."""
+        if self.comm.getSize() == 1:
+            return [value]
+        return self.comm.tompi4py().gather(value, root=0)
+
     def assemble_on_rank0(self, size, index, *arrays):
         """Arrays of length ``size`` on rank 0 (None elsewhere), each rank
         contributing ``arrays`` at the global positions ``index``."""

@@ -28,7 +28,11 @@ INTEGER_SERIES = ("solver/newton_iterations", "solver/linear_iterations", "solve
 BODY_SERIES = ("u", "v", "stress")
 RHS_STATE = "solver/rhs_state"
 NEWTON_STATE = "solver/newton_state"    # [acted, the laws' terms f] of the last slab
-RESTART_STATE = (RHS_STATE, NEWTON_STATE)
+# the running sums of the energy terms (energy.SUMS order, then each rank's
+# share of the external work): a restart continues the sums, not from the
+# rounded totals of the rows, so its energies are those of one run
+ENERGY_STATE = "solver/energy_sums"
+RESTART_STATE = (RHS_STATE, NEWTON_STATE, ENERGY_STATE)
 REQUIRED = ("time", "body", "contact", "energy", "solver")
 # root attributes: the rows (kept, and gauge rows) complete in every
 # dataset, set after each block is on disk; readers of a running file read
