@@ -1,14 +1,20 @@
-"""Impact accuracy by mass matrix, formulation and penalty (issue 26's study,
-first part): a steel bar (1 m, 100 elements) hits a rigid wall at 1 m/s.
-Prints, per variant and Courant number c dt/h, the peak and median contact
+"""Accuracy by mass matrix, formulation and penalty (issue 26's study,
+first part; docs/accuracy.md).
+
+Impact: a steel bar (1 m, 100 elements unless given) hits a rigid wall at
+1 m/s; per variant and Courant number c dt/h, the peak and median contact
 force over Z v0 (exact: 1), the rebound velocity error (the bar's mean
 velocity after release against -v0) and the energy error after the impact.
+Standing wave: the clamped-free steel bar started in its first mode (nodal
+values exact), the tip displacement's relative L2 error over two periods
+against the continuous solution.
 
-    .venv/bin/python bench/impact_study.py
+    .venv/bin/python bench/impact_study.py [impact|mesh|wave]
 """
 
 import io
 import os
+import sys
 import tempfile
 
 import numpy as np
@@ -42,8 +48,40 @@ def bar_wall(n, courant, mass, formulation, beta, folder):
             (energy - e0) / e0)
 
 
-def main():
+def standing_wave(n, mass, courant, folder):
+    """The tip's relative L2 error over two periods of the first mode."""
+    omega = np.pi * C / (2.0 * L)
+    period = 2.0 * np.pi / omega
+    slabs = int(round(2.0 * period / (courant * L / n / C)))
+    x = np.linspace(0.0, L, n + 1)
+    doc = {"time": {"dt": 2.0 * period / slabs, "end": 2.0 * period},
+           "body": [{"name": "bar", "x": [0.0, L], "elements": n, "E": E, "rho": RHO,
+                     "mass": mass, "u0": [[a, 1e-4 * np.sin(omega * a / C)] for a in x]}],
+           "bc": [{"body": "bar", "end": "left", "type": "fixed"}]}
+    r = vstpetsc.run(vstpetsc.Case.from_dict(doc), output=os.path.join(folder, "w.h5"),
+                     quiet=True, out=io.StringIO())
+    exact = 1e-4 * np.cos(omega * r.time[:])
+    return np.sqrt(np.mean((r.body("bar").u[:, -1] - exact) ** 2) / np.mean(exact ** 2))
+
+
+def main(part):
     with tempfile.TemporaryDirectory() as folder:
+        if part == "wave":
+            for mass in ("consistent", "averaged", "lumped"):
+                for n in (10, 20, 40):
+                    for courant in (1.0, 0.25, 0.0625):
+                        error = standing_wave(n, mass, courant, folder)
+                        print(f"wave {mass:10s} elements {n:3d} c dt/h={courant:6.4f} "
+                              f"tip L2 {error:.2e}", flush=True)
+            return
+        if part == "mesh":
+            for beta in (0.25, 0.5, 1.0):
+                for n in (50, 100, 200, 400):
+                    peak, plateau, rebound, energy = bar_wall(n, 1.0, "averaged", "power",
+                                                              beta, folder)
+                    print(f"power averaged beta={beta} elements {n} peak {peak:.3f} "
+                          f"rebound {rebound:+.4%} energy {energy:+.4%}", flush=True)
+            return
         for formulation, beta in (("seed", None), ("power", None), ("power", 0.5)):
             for mass in ("consistent", "averaged", "lumped"):
                 for courant in (1.0, 0.5, 0.25):
@@ -55,4 +93,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1] if len(sys.argv) > 1 else "impact")
