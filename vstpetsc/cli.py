@@ -127,6 +127,22 @@ def main(argv=None):
     return code
 
 
+def _exit_on_stop_signals():
+    """Outside the time loop (which finishes its slab and writes it: driver.
+    StopSignals) SIGTERM, SIGINT and SIGUSR1 end the process at once with
+    128 + the signal: before the result file has its name there is nothing
+    to keep, and after the run completed its file is closed (exit 143, not
+    a traceback or Python's default -15)."""
+    import signal
+
+    def stop(signum, frame):
+        sys.stdout.flush()
+        os._exit(128 + signum)
+
+    for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGUSR1):
+        signal.signal(sig, stop)
+
+
 def _command(command, rest):
     """Run one command; exceptions become messages and exit statuses."""
     from vstpetsc.errors import CaseError, InputError, Interrupted, SolveFailed
@@ -192,6 +208,7 @@ def _solve(case, out_path, petsc_args, opts):
     from vstpetsc.petsc.options import translate
     from vstpetsc.results.writer import OutputFailed
 
+    _exit_on_stop_signals()
     petsc.initialize(translate(petsc_args))
     try:
         result = run(case, out_path, options=petsc_args, quiet=opts["--quiet"],

@@ -164,12 +164,14 @@ class TimeLoop:
             if restart:
                 self.out.write(f"  restart from slab {k0} (t = {k0 * case.dt:g})\n")
             self.out.flush()
-        with StopSignals() as stop:     # from the first byte written: stop after a slab
+        # from the first byte written: stop after a slab; a signal while the
+        # completed run closes its file is too late to stop anything
+        with StopSignals() as stop:
             self.recorder.open(restart, self._attrs(petsc_options), u, v)
             energy1 = self._loop(k0, stop)
-        self.recorder.close("completed", case.nslabs, snapshot=True,
-                            wall_time=time.perf_counter() - self.start,
-                            setup_time=self.setup_time)
+            self.recorder.close("completed", case.nslabs, snapshot=True,
+                                wall_time=time.perf_counter() - self.start,
+                                setup_time=self.setup_time)
         last = energy1 or {}
         return RunInfo(case.nslabs - k0, time.perf_counter() - self.start, energy0,
                        sum(last.get(k, 0.0) for k in HELD),
