@@ -276,7 +276,8 @@ def consistent(out):
 def _csv_lengths(folder):
     """{CSV file: number of lines} of the kept-row exports in ``folder``."""
     return {name: sum(1 for _ in open(os.path.join(folder, name)))
-            for name in os.listdir(folder) if not name.startswith(("gauge", "envelope"))}
+            for name in os.listdir(folder) if not name.startswith(("gauge", "envelope"))
+            and not name.endswith("-events.csv")}          # a row per event, not per kept slab
 
 
 def command_reads(out, k):

@@ -86,7 +86,10 @@ class Result:
     def _rows_of(self, name, ds):
         """The rows of dataset ``name`` a reader sees (None: all of it, a
         dataset that does not grow with the run)."""
-        if not ds.maxshape or ds.maxshape[0] is not None or layout.is_events(name):
+        if layout.is_events(name.lstrip("/")):      # its own count of rows on disk
+            count = ds.attrs.get(layout.COMPLETE_ROWS)
+            return None if count is None else int(count)
+        if not ds.maxshape or ds.maxshape[0] is not None:
             return None
         return self._gauge_rows if layout.every_slab(name.lstrip("/")) else self._rows
 

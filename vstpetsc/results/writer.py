@@ -104,13 +104,21 @@ class EventRows:
     """The pairs' contact events (``/contact/<k>/events``, (m, 2)): the
     rows the recorder hands over with the kept rows (the events of every
     slab up to that row), appended with the same block, so the file holds
-    the events up to its last row whether the run ends, stops or is killed."""
+    the events up to its last row whether the run ends, stops or is killed.
+    Each dataset's attribute ``complete_rows`` counts the rows on disk (set
+    after the block's flush, as :class:`Completed`) for readers of a running
+    file."""
 
     def __init__(self, f):
         names = [name for name, _ in _series_of(f) if layout.is_events(name)]
         self.ids = {name: f[name].id for name in names}
         self.n = {name: f[name].shape[0] for name in names}
         self.pending = {}
+        for name in names:
+            if COMPLETE_ROWS not in f[name].attrs:
+                f[name].attrs.create(COMPLETE_ROWS, self.n[name], dtype=np.int64)
+        self.counts = {name: h5py.h5a.open(self.ids[name], COMPLETE_ROWS.encode())
+                       for name in names}
 
     def add(self, name, rows):
         self.pending.setdefault(name, []).append(rows)
@@ -128,6 +136,11 @@ class EventRows:
             rows = np.concatenate(parts)
             _append(self.ids[name], self.n[name], rows)
             self.n[name] += rows.shape[0]
+
+    def complete(self):
+        """The counts of rows on disk (after an HDF5 flush)."""
+        for name, attr in self.counts.items():
+            attr.write(np.array(self.n[name], dtype=np.int64))
 
 
 class Snapshots:
@@ -328,6 +341,7 @@ class ResultWriter:
             action(*args)
             self.f.flush()
             self.completed.write(self.n, self._gauge_rows())
+            self.events.complete()
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             self.broken = True
