@@ -11,6 +11,9 @@ import pytest
 import vstpetsc
 from conftest import STEEL, bar, cli, make_case, solve, write_case
 from test_energy_restart import StopAfter, assert_same_files
+# imported before any run of this process starts MPI (its environment
+# would reach mpirun's ranks and stop their MPI_Init)
+from test_parallel import mpirun
 from vstpetsc import bundled, driver
 from vstpetsc.driver import Interrupted
 from vstpetsc.model import build_model
@@ -184,8 +187,6 @@ def test_file_of_a_killed_run_keeps_the_events_of_its_blocks(tmp_path, monkeypat
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
 def test_two_ranks_equal_one(tmp_path):
     """bar-wall (seed: many events) on two ranks: the events of one rank."""
-    from test_parallel import mpirun
-
     case = write_case(tmp_path, bar_wall("seed"), "bar-wall")
     one = solve(tmp_path, bar_wall("seed"), "one").contact(0).events
     p = mpirun("run", case, "-o", tmp_path / "two.h5", "--quiet")
