@@ -30,8 +30,8 @@ def test_csv_columns_equal_the_datasets(result, tmp_path):
     p = cli("export", result.path, "--csv", tmp_path / "csv")
     assert p.returncode == 0, p.stderr
     names = sorted(f.name for f in (tmp_path / "csv").iterdir())
-    assert names == ["contact-0.csv", "energy.csv", "envelope-a.csv", "envelope-b.csv",
-                     "gauge.csv", "solver.csv"]
+    assert names == ["contact-0-events.csv", "contact-0.csv", "energy.csv", "envelope-a.csv",
+                     "envelope-b.csv", "gauge.csv", "solver.csv"]
     gauges = read_csv(tmp_path / "csv" / "gauge.csv")
     assert len(gauges) == 1 + 4 * len(GAUGES)
     assert np.array_equal(gauges["time"], result.gauge("a-in").time)

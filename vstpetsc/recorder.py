@@ -24,6 +24,7 @@ class Recorder:
         self.interval = interval
         self.writer, self.lock = None, None
         self.rows = layout.RowFiller(model)
+        self.event_sets = layout.event_sets(model)
         if self.rank0 and solver.serial and solver.native:
             from vstpetsc.native.rows import RowCopier
 
@@ -81,7 +82,8 @@ class Recorder:
                 first.update((name, self.gauge_values[j]) for name, j in self.gauges.series())
             self.writer = ResultWriter.create(
                 self.output, layout.series(model), layout.statics(model),
-                layout.group_attrs(model), attrs, first, self.interval, snapshots)
+                layout.group_attrs(model), attrs, first, self.interval, snapshots,
+                [name for _, name in self.event_sets])
         self._agree(create)
         if self.writer and self.writer.gauges:
             column = dict(self.gauges.series())
@@ -132,9 +134,19 @@ class Recorder:
         if self.rank0:
             buffers, i = self.writer.slot()
             self.rows.fill(buffers, i, k, u, v, its, time.perf_counter() - self.start, energy, d)
+        self._take_events()
         if self.space.max_over_ranks(int(self.rank0 and self.writer.due())):
             self.flush(k)
         return energy
+
+    def _take_events(self):
+        """The pairs' events since the last kept row (every rank), to the
+        writer's next block (rank 0)."""
+        for law, name in self.event_sets:
+            if law.events:
+                rows = law.take_events()
+                if self.rank0:
+                    self.writer.events.add(name, rows)
 
     def flush(self, k):
         """Write the buffered rows with the restart state of slab k (k
@@ -186,7 +198,8 @@ def load_restart(path, case, model, energy):
         if "solver/slab" not in f or "case" not in f.attrs:
             raise InputError(f"--restart: {path} has no restart data (not a vstpetsc result)")
         _check_continues(f, path, case)
-        missing = [name for name, _ in layout.series(model) if name not in f]
+        missing = [name for name, _ in layout.series(model) if name not in f] + \
+            [name for _, name in layout.event_sets(model) if name not in f]
         if missing:
             raise InputError(f"--restart: {path} has no {missing[0]} (written by another "
                              "vstpetsc version); run the case again")

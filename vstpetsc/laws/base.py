@@ -35,6 +35,10 @@ closes), and its terms in the slab equations of node k are c_k f^a(y):
   state; ``static_limit(u)``: a line naming the law's key when it cannot
   carry its share of the static load (None: it can).
 
+A contact pair (laws/pair.py) also records, in ``finish_slab``, the times
+inside the slab where it starts and stops acting (``track``): its events,
+which the recorder takes with every kept row (``take_events``).
+
 Result file: ``group`` (e.g. "contact/0", None for nothing), ``series``
 (its scalar datasets per kept row), ``attrs()`` and ``values(u)``; a restart
 hands the last row back through ``restore(values)``.

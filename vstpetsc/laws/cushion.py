@@ -24,7 +24,7 @@ dependence on the slab's velocities when M is reached inside the slab.
 """
 
 from vstpetsc.checker import MAGNITUDE
-from vstpetsc.laws.gap import GAUSS, closed_somewhere, gap_coefficients, roots01
+from vstpetsc.laws.gap import GAUSS, closed_somewhere, gap_coefficients, merged, roots01
 from vstpetsc.laws.pair import PairLaw
 
 KEYS = ("stiffness", "restitution")
@@ -72,9 +72,10 @@ def _loading(c, M):
 
 
 def cushion_integrals(gn, d1, d2, dt, k, ku, M):
-    """(f1, f2, df1/dd1, df1/dd2, df2/dd1, df2/dd2, M at the slab's end)
-    of a cushion with largest earlier compression ``M``, or None when it
-    exerts nothing in the slab."""
+    """(f1, f2, df1/dd1, df1/dd2, df2/dd1, df2/dd2, M at the slab's end,
+    the pieces [(p, q)] of [0, 1] where it pushes) of a cushion with
+    largest earlier compression ``M``, or None when it exerts nothing in
+    the slab."""
     a = gap_coefficients(gn, d1, d2, dt)
     c = (-a[0], -a[1], -a[2])                        # delta(theta)
     M = max(M, c[0])                                 # M is the largest compression so far
@@ -87,10 +88,11 @@ def cushion_integrals(gn, d1, d2, dt, k, ku, M):
         M2 = c[0] + theta2 * (c[1] + theta2 * c[2])
         half = 0.5 * theta2 * theta2
         dM2 = (dt * (theta2 - half), dt * half)      # dM2/dd_b (delta' = 0 at a vertex)
-    out = [0.0] * 6
+    out, spans = [0.0] * 6, []
     for p, q, kind in _pieces(theta1, theta2):
         if kind == "load":
             _add(out, c, p, q, dt, k, 0.0, None)
+            spans.append((p, q))
             continue
         m, dm = (M, None) if kind == "before" else (M2, dM2)
         shift = m * (1.0 - k / ku)                   # F = ku (delta - shift)
@@ -99,9 +101,10 @@ def cushion_integrals(gn, d1, d2, dt, k, ku, M):
             mid = 0.5 * (s + t)
             if c[0] + mid * (c[1] + mid * c[2]) > shift:
                 _add(out, c, s, t, dt, ku, shift, None if dm is None else (1.0 - k / ku, dm))
+                spans.append((s, t))
     if out == [0.0] * 6:
         return None
-    return (*out, max(M, M2))
+    return (*out, max(M, M2), spans)
 
 
 def _on(c, shift, p, q):
@@ -157,6 +160,8 @@ class Cushion(PairLaw):
         self.add_impulse(last[0] + last[1] if last else 0.0, t0, dt)
         if last:
             self.M = last[6]
+        if last or self.closed:
+            self.track(t0, dt, merged(last[7]) if last else ())
 
     def start_slab(self, u, dt):
         super().start_slab(u, dt)

@@ -120,3 +120,30 @@ def pair_integrals(gn, d1, d2, dt, power):
             W21 += w2 * i1
             W22 += w2 * i2
     return (G1, G2, W11, W12, W21, W22) if hit else None
+
+
+def active_intervals(a0, a1, a2):
+    """[(p, q)] of [0, 1] where g = a0 + a1 t + a2 t^2 < 0, in order: the
+    pieces between the roots that pair_integrals integrates (a piece is
+    active where its midpoint is), touching pieces joined (a double root
+    inside a closed stretch is no event)."""
+    if closed_throughout(a0, a1, a2):
+        return [(0.0, 1.0)]
+    edges = (0.0,) + roots01(a0, a1, a2) + (1.0,)
+    pieces = []
+    for p, q in zip(edges, edges[1:]):
+        mid = p + 0.5 * (q - p)
+        if q > p and a0 + mid * (a1 + mid * a2) < 0.0:
+            pieces.append((p, q))
+    return merged(pieces)
+
+
+def merged(pieces):
+    """Ordered pieces [(p, q)] with the touching ones joined."""
+    out = []
+    for p, q in pieces:
+        if out and out[-1][1] == p:
+            out[-1] = (out[-1][0], q)
+        else:
+            out.append((p, q))
+    return out

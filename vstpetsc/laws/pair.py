@@ -45,6 +45,8 @@ class PairLaw(Law):
         self.totals = dict.fromkeys(TOTALS, 0.0)
         self.totals["first_contact"] = np.nan
         self.on = False
+        self.closed = False     # whether the pair is closed at the end of the last slab
+        self.events = []        # [(t, +1 close / -1 open)] not yet taken by the recorder
 
     def start_slab(self, u, dt):
         """Gap at t^n from the displacements of the pair's nodes."""
@@ -64,6 +66,34 @@ class PairLaw(Law):
         t["force_peak"] = max(t["force_peak"], impulse / dt)
         if np.isnan(t["first_contact"]) and on:
             t["first_contact"] = t0
+
+    def track(self, t0, dt, intervals):
+        """Events of the slab [t0, t0 + dt] from the ordered pieces
+        [(p, q)] of [0, 1] where the pair acts: a close at p, an open at q
+        inside the slab; a piece reaching a slab end continues the state
+        across it (no open and close at the boundary while in contact)."""
+        closed, events = self.closed, self.events
+        if not intervals:
+            if closed:              # it acted up to the end of the last slab
+                events.append((t0, -1.0))
+                self.closed = False
+            return
+        for p, q in intervals:
+            if closed and p > 0.0:  # (rounding) the gap opened at the slab's start
+                events.append((t0, -1.0))
+                closed = False
+            if not closed:
+                events.append((t0 + p * dt, 1.0))
+            closed = q == 1.0
+            if not closed:
+                events.append((t0 + q * dt, -1.0))
+        self.closed = closed
+
+    def take_events(self):
+        """The events since the last call, as an (m, 2) array."""
+        out = np.array(self.events, dtype=np.float64).reshape(-1, 2)
+        self.events = []
+        return out
 
     def gap(self, u):
         """Gap for the displacements ``u`` of all nodes (the signs are +-1,
@@ -96,6 +126,7 @@ class PairLaw(Law):
     def restore(self, values):
         self.totals = {k: float(values[k]) for k in TOTALS}
         self.on = values["impulse"] > 0
+        self.closed = bool(values.get("closed", False))
 
     def attrs(self):
         return {"pair": ",".join(self.names), "formulation": self.formulation,

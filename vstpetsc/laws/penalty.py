@@ -7,7 +7,7 @@ active part {g < 0} (:mod:`vstpetsc.laws.gap`); ``phi_a`` is I_a for "seed"
 (w = eps) and T_a for "power" (w = k).
 """
 
-from vstpetsc.laws.gap import closed_on_slab, pair_integrals
+from vstpetsc.laws.gap import active_intervals, closed_on_slab, gap_coefficients, pair_integrals
 from vstpetsc.laws.pair import PairLaw
 
 KEYS = ("penalty",)
@@ -49,6 +49,7 @@ class PenaltyContact(PairLaw):
             default_penalty(spec.formulation, stiffness, case.dt)
         self.power = spec.formulation == "power"
         self.last = None
+        self.rates = None           # the closing rates of the last force() that acted
 
     def acts(self, d1, d2):
         return closed_on_slab(self.gn, d1, d2, self.dt)
@@ -60,6 +61,7 @@ class PenaltyContact(PairLaw):
         integrals = self.last = pair_integrals(self.gn, d1, d2, self.dt, self.power)
         if integrals is None:
             return None
+        self.rates = (d1, d2)
         G1, G2, W11, W12, W21, W22 = integrals
         w = self.penalty
         return (-w * G1, -w * G2, w * W11, w * W12, w * W21, w * W22)
@@ -74,6 +76,9 @@ class PenaltyContact(PairLaw):
         """Record the converged slab (the last force() was at its solution)."""
         last = self.last
         self.add_impulse(-self.penalty * (last[0] + last[1]) if last else 0.0, t0, dt)
+        if last or self.closed:     # free slabs after an open cost nothing more
+            self.track(t0, dt, active_intervals(*gap_coefficients(self.gn, *self.rates, dt))
+                       if last else ())
 
     def attrs(self):
         return {**super().attrs(), "penalty": self.penalty}

@@ -109,9 +109,11 @@ class NativeNewton:
 
     def _finish(self, code, slab_index):
         """The outputs of the C Newton into the LawSet and the pairs."""
-        integrals, hit = self.integrals.tolist(), self.hit.tolist()
+        integrals, hit, y = self.integrals.tolist(), self.hit.tolist(), self.y.tolist()
         for j, law in enumerate(self.laws):
             law.last = tuple(integrals[6 * j:6 * j + 6]) if hit[j] else None
+            if hit[j]:      # the converged rates: the pair's events (finish_slab)
+                law.rates = (y[2 * j], y[2 * j + 1])
         if code != 0:
             raise not_converged(slab_index, self.max_it, self.ctx.norm)
         self.iterations = self.ctx.iterations

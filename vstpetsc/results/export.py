@@ -10,6 +10,8 @@ bit):
   with ``-`` for ``/``), ``energy.csv``, ``solver.csv``: ``time`` and the
   group's one-value series, a row per kept slab (a series with a value per
   node, such as ``/soil/<k>/slip``, stays in the HDF5 file);
+- ``contact-<k>-events.csv``: ``time`` and ``change`` (+1 close, -1
+  open) of every event of pair k (``/contact/<k>/events``);
 - ``envelope-<body>.csv``: ``x_left``, ``x_right``, ``stress_min``,
   ``stress_max`` of every element.
 
@@ -67,6 +69,7 @@ def to_csv(result, folder):
         columns = {"time": result.time, **result.series(group)}
         name = group.replace("/", "-") + ".csv"
         paths.append(_write_csv(os.path.join(folder, name), columns))
+    paths += _events_csv(result, folder)
     for body in result.bodies:
         b = result.body(body)
         if "stress_min" in b.keys():
@@ -74,6 +77,18 @@ def to_csv(result, folder):
             paths.append(_write_csv(os.path.join(folder, f"envelope-{body}.csv"), {
                 "x_left": x[:-1], "x_right": x[1:], "stress_min": b.stress_min,
                 "stress_max": b.stress_max}))
+    return paths
+
+
+def _events_csv(result, folder):
+    """contact-<k>-events.csv of every pair whose file has events."""
+    paths = []
+    for k in range(result.ncontacts):
+        name = f"{layout.CONTACT}/{k}/{layout.EVENTS}"
+        if name in result:
+            events = result[name]
+            paths.append(_write_csv(os.path.join(folder, f"contact-{k}-events.csv"),
+                                    {"time": events[:, 0], "change": events[:, 1]}))
     return paths
 
 

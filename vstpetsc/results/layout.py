@@ -9,6 +9,7 @@ their names from here.
     /energy/kinetic, strain, spring, damping, external, contact, soil, numerical   (nt,)
     /solver/newton_iterations, linear_iterations, wall_time, slab   (nt,)
     /gauge/<name>/u, v, stress, strain   (ns + 1,)   every slab, whatever `every` is
+    /contact/<k>/events            (m, 2)  (time, +1 close / -1 open), with the blocks
 """
 
 import numpy as np
@@ -19,6 +20,7 @@ from vstpetsc.gauges import Gauges
 TIME = "time"
 BODY = "body"
 CONTACT = "contact"
+EVENTS = "events"
 ENERGY = tuple(f"energy/{k}" for k in energy_mod.KEYS)
 ENVELOPES = ("stress_min", "stress_max")
 ELONGATION = ("solver/elongation_min", "solver/elongation_max")   # the envelopes' exact state
@@ -58,6 +60,18 @@ def series(model):
         out += [(f"{law.group}/{key}", shape(key)) for key in law.series]
     out += [(name, ()) for name, _ in Gauges(model).series()]
     return out + [(name, ()) for name in ENERGY + SOLVER]
+
+
+def event_sets(model):
+    """[(law, dataset name)] of the pairs that record contact events."""
+    return [(law, f"{law.group}/{EVENTS}") for law in model.recorded if hasattr(law, "track")]
+
+
+def is_events(name):
+    """Whether dataset ``name`` is a pair's events: it grows by its own
+    rows (with the blocks), not by one per kept slab."""
+    parts = name.strip("/").split("/")
+    return len(parts) == 3 and parts[0] == CONTACT and parts[2] == EVENTS
 
 
 def every_slab(name):
@@ -215,5 +229,9 @@ def last_state(f, model):
     v = np.concatenate([f[body_path(b.name, "v")][-1] for b in model.case.bodies])
     laws = {law.group: {key: f[f"{law.group}/{key}"][-1] for key in law.series}
             for law in model.recorded}
+    for law, name in event_sets(model):
+        # the events in the file end with the last row's slab (written with the blocks)
+        events = f[name]
+        laws[law.group]["closed"] = events.shape[0] > 0 and events[-1, 1] > 0
     energies = [{key.split("/")[1]: f[key][i] for key in ENERGY} for i in (0, -1)]
     return k, u, v, laws, energies[0], energies[1]

@@ -86,6 +86,9 @@ class Result:
     def _rows_of(self, name, ds):
         """The rows of dataset ``name`` a reader sees (None: all of it, a
         dataset that does not grow with the run)."""
+        if layout.is_events(name.lstrip("/")):      # its own count of rows on disk
+            count = ds.attrs.get(layout.COMPLETE_ROWS)
+            return None if count is None else int(count)
         if not ds.maxshape or ds.maxshape[0] is not None:
             return None
         return self._gauge_rows if layout.every_slab(name.lstrip("/")) else self._rows
@@ -159,7 +162,8 @@ class Result:
 
     def contact(self, k):
         """Datasets of contact pair ``k``: ``.gap``, ``.force``, ``.impulse``,
-        running totals, and ``.attrs``."""
+        running totals, ``.events`` ((m, 2): time, +1 close / -1 open) and
+        ``.attrs``."""
         if not 0 <= int(k) < self.ncontacts:
             raise KeyError(f"no contact {k} (there are {self.ncontacts})")
         return Group(self, f"{layout.CONTACT}/{int(k)}")
@@ -222,7 +226,7 @@ def _outline(f):
     kept, every_slab = [], []
     f.visititems(lambda name, obj: (every_slab if layout.every_slab(name) else kept).append(
         obj.shape[0]) if isinstance(obj, h5py.Dataset) and obj.maxshape
-        and obj.maxshape[0] is None else None)
+        and obj.maxshape[0] is None and not layout.is_events(name) else None)
     counts = [min(lengths + [int(f.attrs.get(attr, np.iinfo(np.int64).max))])
               if lengths else 0 for lengths, attr in
               ((kept, layout.COMPLETE_ROWS), (every_slab, layout.COMPLETE_GAUGE_ROWS))]

@@ -5,6 +5,7 @@ import numpy as np
 from vstpetsc.results.reader import text
 
 NO_REFERENCE = 1e-12    # e0 below this fraction of the largest total energy is no reference
+LISTED_CONTACTS = 3     # contacts `info` lists one by one (then the total)
 
 
 def pair_summary(group, k):
@@ -15,7 +16,9 @@ def pair_summary(group, k):
     with contact, nan: none), duration (total length of the slabs with
     contact), episodes (runs of consecutive slabs with contact), peak_force
     (largest slab-mean force), mean_force (total impulse / total contact
-    time), impulse (total), penetration (largest overlap at kept slab ends).
+    time), impulse (total), penetration (largest overlap at kept slab ends),
+    contacts ([(close, open)] from the events, open nan while still closed;
+    None for a file without events).
     """
     last = lambda key: float(group[key][-1])
     a = group.attrs
@@ -28,7 +31,37 @@ def pair_summary(group, k):
             "peak_force": last("force_peak"),
             "mean_force": last("impulse_total") / duration if duration > 0 else 0.0,
             "impulse": last("impulse_total"),
-            "penetration": float(max(0.0, -group["gap"].min()))}
+            "penetration": float(max(0.0, -group["gap"].min())),
+            "contacts": contact_spans(group["events"]) if "events" in group.keys() else None}
+
+
+def contact_spans(events):
+    """[(close, open)] of an (m, 2) events array (open nan for a contact
+    still closed at the end)."""
+    spans = []
+    for t, change in events.tolist():
+        if change > 0:
+            spans.append((t, np.nan))
+        elif spans:
+            spans[-1] = (spans[-1][0], t)
+    return spans
+
+
+def contact_line(k, name, spans):
+    """`info`'s line of pair k's contacts: their number and each one's
+    duration (close to open); for many the total and the first few."""
+    def one(close, open_):
+        if np.isnan(open_):
+            return f"still closed (close {close:.6g})"
+        return f"{open_ - close:.6g} s (close {close:.6g}, open {open_:.6g})"
+
+    n = len(spans)
+    head = f"    contact[{k}] {name}: {n} contact{'' if n == 1 else 's'}"
+    if n <= 1:
+        return f"{head}, {one(*spans[0])}" if n else head
+    total = sum(o - c for c, o in spans if not np.isnan(o))
+    listed = "; ".join(one(*s) for s in spans[:LISTED_CONTACTS])
+    return f"{head}, total {total:.6g} s; {listed}{', ...' if n > LISTED_CONTACTS else ''}"
 
 
 def summarize(result):
@@ -173,6 +206,8 @@ def format_summary(s, path):
                   f"{p['duration']:.6g}, {p['episodes']} episode(s)",
                   f"        force peak {p['peak_force']:.6g}, mean {p['mean_force']:.6g}; "
                   f"impulse {p['impulse']:.6g}; largest penetration {p['penetration']:.4g}"]
+        if p.get("contacts") is not None:
+            lines.append(contact_line(k, p["name"], p["contacts"]))
     e0, e1 = s["energy_start"], s["energy_end"]
     change = energy_change(e0, e1, s["energy"].get("numerical", 0.0), s.get("energy_peak", 0.0))
     lines.append(f"  energy: start {e0:.6g}, end {e1:.6g} ({change})")

@@ -33,6 +33,7 @@ from vstpetsc.results.layout import COMPLETE_GAUGE_ROWS, COMPLETE_ROWS
 BUFFER_VALUES = 1 << 20          # doubles per series buffer (8 MB; two of them with a thread)
 BUFFER_ROWS = 1 << 13            # rows a block holds at most (a block costs ~3 ms)
 THREAD_ROWS = 16                 # fewer rows a block: no second set, no thread
+EVENT_CHUNK = 256                # rows of an events dataset's chunk
 MARGIN = 1 << 18                 # bytes reserved beyond a block's estimate
 _UNCLOSABLE = []                 # files HDF5 failed to write: never closed
 
@@ -97,6 +98,49 @@ class GaugeStream:
         for dsid in self.ids:
             dsid.set_extent((min(rows, self.n),))
         self.n = min(rows, self.n)
+
+
+class EventRows:
+    """The pairs' contact events (``/contact/<k>/events``, (m, 2)): the
+    rows the recorder hands over with the kept rows (the events of every
+    slab up to that row), appended with the same block, so the file holds
+    the events up to its last row whether the run ends, stops or is killed.
+    Each dataset's attribute ``complete_rows`` counts the rows on disk (set
+    after the block's flush, as :class:`Completed`) for readers of a running
+    file."""
+
+    def __init__(self, f):
+        names = [name for name, _ in _series_of(f) if layout.is_events(name)]
+        self.ids = {name: f[name].id for name in names}
+        self.n = {name: f[name].shape[0] for name in names}
+        self.pending = {}
+        for name in names:
+            if COMPLETE_ROWS not in f[name].attrs:
+                f[name].attrs.create(COMPLETE_ROWS, self.n[name], dtype=np.int64)
+        self.counts = {name: h5py.h5a.open(self.ids[name], COMPLETE_ROWS.encode())
+                       for name in names}
+
+    def add(self, name, rows):
+        self.pending.setdefault(name, []).append(rows)
+
+    def need(self):
+        """Bytes the next write may take, a new chunk each included."""
+        return sum(16 * (sum(map(len, parts)) + EVENT_CHUNK) for parts in self.pending.values())
+
+    def take(self):
+        block, self.pending = self.pending, {}
+        return block
+
+    def write(self, block):
+        for name, parts in block.items():
+            rows = np.concatenate(parts)
+            _append(self.ids[name], self.n[name], rows)
+            self.n[name] += rows.shape[0]
+
+    def complete(self):
+        """The counts of rows on disk (after an HDF5 flush)."""
+        for name, attr in self.counts.items():
+            attr.write(np.array(self.n[name], dtype=np.int64))
 
 
 class Snapshots:
@@ -173,14 +217,16 @@ class ResultWriter:
         self.last_flush = time.monotonic()
         self.broken = False
         self.gauges = GaugeStream.of(f, _gauge_names(f))
+        self.events = EventRows(f)
         self.completed = Completed(f)
 
     @classmethod
     def create(cls, path, series, statics, groups, attrs, first_row, interval=0.5,
-               snapshots=None):
+               snapshots=None, events=()):
         """A new file: written under a temporary name with ``first_row``
-        (its gauge values included, and the ``snapshots`` of t = 0), then
-        renamed to ``path``; InputError if it cannot be."""
+        (its gauge values included, and the ``snapshots`` of t = 0) and the
+        empty ``events`` datasets, then renamed to ``path``; InputError if
+        it cannot be."""
         lock = OutputLock(path)
         temp, f, fd, self = lock.new(), None, None, None
         try:
@@ -188,7 +234,7 @@ class ResultWriter:
             fd = os.open(temp, os.O_RDWR)
             header = sum(np.asarray(a).nbytes for a in statics.values())
             DiskReserve(fd).ensure(f.id.get_filesize(), header + MARGIN)
-            _header(f, series, statics, groups, attrs)
+            _header(f, series, statics, groups, attrs, events)
             self = cls(f, lock, interval, fd)
             self.append(first_row)
             if self.gauges:
@@ -271,6 +317,7 @@ class ResultWriter:
             need = _block_bytes(self.series, self.n, self.pending) + MARGIN
             need += sum(np.asarray(a).nbytes for a in snapshots.values())
             need += self.gauges.need() if self.gauges else 0
+            need += 0 if gauges_only else self.events.need()
             self.reserve.ensure(self.f.id.get_filesize(), need + need // 20)
         except DiskFull as exc:
             raise OutputFailed(self._failure(exc)) from None
@@ -294,6 +341,7 @@ class ResultWriter:
             action(*args)
             self.f.flush()
             self.completed.write(self.n, self._gauge_rows())
+            self.events.complete()
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             self.broken = True
@@ -310,16 +358,18 @@ class ResultWriter:
     def _take(self):
         """The buffered block (buffers, rows, gauge block); the next rows
         go to the other buffers."""
-        block = (self.buffers, self.pending, self.gauges.take() if self.gauges else None)
+        block = (self.buffers, self.pending, self.gauges.take() if self.gauges else None,
+                 self.events.take())
         if self.spare is not None:
             self.buffers, self.spare = self.spare, self.buffers
         self.pending = 0
         return block
 
     def _write_block(self, block, snapshots, slab):
-        buffers, k, gauges = block
+        buffers, k, gauges, events = block
         if gauges:
             self.gauges.write(gauges)
+        self.events.write(events)
         if k:
             n = self.n
             for name, (dsid, _, _) in self.series.items():
@@ -368,7 +418,7 @@ def _track(f):
     and blocks are written at once)."""
     series, buffers, capacity = {}, {}, None
     for name, ds in _series_of(f):
-        if layout.every_slab(name):
+        if layout.every_slab(name) or layout.is_events(name):
             continue
         tail = ds.shape[1:]
         width = max(1, int(np.prod(tail)))
@@ -414,7 +464,7 @@ def _series_of(f):
     return found
 
 
-def _header(f, series, statics, groups, attrs):
+def _header(f, series, statics, groups, attrs, events=()):
     f.attrs["status"] = "running"
     f.attrs["version"] = __version__
     for k, v in attrs.items():
@@ -431,6 +481,9 @@ def _header(f, series, statics, groups, attrs):
         dtype = "i8" if name in layout.INTEGER_SERIES else "f8"
         f.create_dataset(name, shape=(0,) + tail, maxshape=(None,) + tail,
                          chunks=(rows,) + tail, dtype=dtype)
+    for name in events:
+        f.create_dataset(name, shape=(0, 2), maxshape=(None, 2), chunks=(EVENT_CHUNK, 2),
+                         dtype="f8")
     f.require_group(layout.CONTACT)
 
 

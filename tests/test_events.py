@@ -1,0 +1,231 @@
+"""Contact events (/contact/<k>/events): the times at which a pair closes
+(+1) and opens (-1), located inside the slab at the roots of the gap (or
+of the cushion's force), written with the blocks, restarted bit for bit."""
+
+import io
+import shutil
+
+import numpy as np
+import pytest
+
+import vstpetsc
+from conftest import STEEL, bar, cli, make_case, solve, write_case
+from test_energy_restart import StopAfter, assert_same_files
+# imported before any run of this process starts MPI (its environment
+# would reach mpirun's ranks and stop their MPI_Init)
+from test_parallel import mpirun
+from vstpetsc import bundled, driver
+from vstpetsc.driver import Interrupted
+from vstpetsc.model import build_model
+
+L, V0, G0, DT = 1.0, 1.0, 1.0e-3, 2.0e-6
+C = np.sqrt(STEEL["E"] / STEEL["rho"])
+RELEASE = G0 / V0 + 2.0 * L / C          # the bar leaves the wall after 2 L / c
+
+
+def bar_wall(formulation, gap=G0, end=2.0e-3, every=1, **pair):
+    """A steel bar, 1 m, 100 elements, thrown at v0 = 1 at a wall ``gap`` away."""
+    return make_case(DT, end, [bar("bar", [0.0, L], 100, v0=V0)],
+                     [{"pair": ["bar", "wall"], "wall": L + gap, "formulation": formulation,
+                       **pair}], every=every)
+
+
+def assert_alternating(events, ends_open=True):
+    """In time order, closes and opens alternating from a close: each close
+    followed by an open (the last one too when ``ends_open``: the run ends
+    with the pair open)."""
+    assert events.ndim == 2 and events.shape[1] == 2 and events.shape[0] >= 2
+    assert np.all(np.diff(events[:, 0]) >= 0.0)
+    m = events.shape[0]
+    assert np.array_equal(events[:, 1], np.tile([1.0, -1.0], m)[:m])
+    assert (m % 2 == 0) == ends_open
+
+
+def contacts(events, apart):
+    """[(first close, last open)] of the runs of events whose open-to-close
+    gaps are shorter than ``apart`` (the seed's closes and opens inside one
+    impact, see docs/contact-formulations.md)."""
+    t = events[:, 0]
+    starts = [0] + [i for i in range(2, t.size, 2) if t[i] - t[i - 1] > apart]
+    ends = [i - 1 for i in starts[1:]] + [t.size - 1]
+    return [(t[a], t[b]) for a, b in zip(starts, ends)]
+
+
+FORMULATIONS = {"power": {}, "seed": {},
+                "cushion": {"stiffness": 50.0 * STEEL["E"] / 0.01, "restitution": 1.0}}
+
+
+@pytest.mark.parametrize("formulation", FORMULATIONS)
+def test_bar_wall_closes_at_the_exact_time_and_opens_at_the_release(tmp_path, formulation):
+    """The approach is rigid: the close is g0 / v0 to rounding; the last
+    open (the bar leaves) lies within 3 dt of g0 / v0 + 2 L / c."""
+    r = solve(tmp_path, bar_wall(formulation, **FORMULATIONS[formulation]))
+    events = r.contact(0).events
+    assert_alternating(events)
+    t_close = events[0, 0]
+    assert abs(t_close - G0 / V0) <= 1e-12 * t_close
+    assert abs(events[-1, 0] - RELEASE) <= 3.0 * DT
+    # no open and close again at a slab end while the pair stays closed
+    at_end = np.abs(events[:, 0] / DT - np.round(events[:, 0] / DT)) < 1e-6
+    assert not np.any(at_end[1:-1:2] & at_end[2::2])
+
+
+def test_close_inside_a_slab_is_not_rounded_to_its_ends(tmp_path):
+    """A gap closing a quarter into a slab: the close lies inside that
+    slab, nearer the exact time than either slab end."""
+    gap = G0 + 0.25 * DT * V0
+    exact = gap / V0
+    events = solve(tmp_path, bar_wall("power", gap=gap)).contact(0).events
+    assert_alternating(events)
+    ends = np.floor(exact / DT) * DT, np.ceil(exact / DT) * DT
+    assert ends[0] < events[0, 0] < ends[1]
+    assert abs(events[0, 0] - exact) < min(abs(e - exact) for e in ends)
+
+
+@pytest.mark.parametrize("options", [["-vst_native", "0"], ["-vst_newton", "full"],
+                                     ["-vst_fd_jacobian"]])
+def test_every_newton_gives_the_compiled_events(tmp_path, options):
+    """The compiled Newton (the default) against the Python one, the full
+    Newton and SNES: the same events (the compiled path recomputes the
+    roots from its converged rates)."""
+    case = bar_wall("seed")
+    native = solve(tmp_path, case, "native").contact(0).events
+    other = solve(tmp_path, case, "other", options=options).contact(0).events
+    assert native.shape[0] > 2 and native.shape == other.shape
+    np.testing.assert_allclose(native, other, rtol=0, atol=1e-8 * DT)   # Newton tolerance
+
+
+def penalty_law(formulation="power"):
+    """The bar-wall pair as built for a run (a PenaltyContact)."""
+    model = build_model(bar_wall(formulation))
+    law, = [law for law in model.nonlinear if law.group == "contact/0"]
+    return law
+
+
+@pytest.mark.parametrize("formulation", ["power", "seed"])
+def test_close_and_open_within_one_slab_are_two_events(formulation):
+    """A gap dipping below zero in the middle of a slab only: a close and
+    an open inside it, at the roots of the gap; the next free slab adds
+    nothing."""
+    law = penalty_law(formulation)
+    t0, dt = 0.5, law.dt
+    law.gn, d1, d2 = 1.0e-5, 1.0e-4 / dt, -1.0e-4 / dt   # g < 0 on (0.113, 0.887)
+    assert law.force(d1, d2) is not None
+    law.finish_slab(t0, dt)
+    events = law.take_events()
+    assert events[:, 1].tolist() == [1.0, -1.0]
+    roots = 0.5 - 0.5 * np.sqrt(0.6), 0.5 + 0.5 * np.sqrt(0.6)
+    np.testing.assert_allclose(events[:, 0], [t0 + r * dt for r in roots], rtol=1e-15, atol=0)
+    law.last = None
+    law.finish_slab(t0 + dt, dt)
+    assert law.take_events().shape == (0, 2)
+
+
+def test_open_at_the_start_of_a_free_slab_after_a_closed_end():
+    """A pair closed at the end of a slab and free throughout the next (a
+    gap rounded back to zero) opens at that slab's start."""
+    law = penalty_law()
+    law.gn, t0, dt = -1.0e-9, 0.0, law.dt
+    law.force(0.0, 0.0)
+    law.finish_slab(t0, dt)
+    law.last = None
+    law.finish_slab(t0 + dt, dt)
+    assert law.take_events().tolist() == [[0.0, 1.0], [t0 + dt, -1.0]]
+
+
+def test_two_equal_bars_one_impact(tmp_path):
+    """two-bars (seed): the striker meets the target at g0 / v0 to rounding
+    and leaves it within 3 dt of 2 L / c later; one impact."""
+    case = vstpetsc.Case.from_toml(bundled.path("two-bars"))
+    events = solve(tmp_path, case, "two-bars").contact(0).events
+    assert_alternating(events)
+    assert abs(events[0, 0] - G0 / V0) <= 1e-12 * G0 / V0
+    assert abs(events[-1, 0] - RELEASE) <= 3.0 * case.dt
+    assert len(contacts(events, 10 * case.dt)) == 1
+
+
+def test_periodic_impacts_every_three_transit_times(tmp_path):
+    """periodic-impacts: an impact of L / c every 3 L / c, the first at
+    L / c; nine before time.end, the last still closed at the end."""
+    case = vstpetsc.Case.from_toml(bundled.path("periodic-impacts"))
+    events = solve(tmp_path, case, "periodic").contact(0).events
+    assert_alternating(events, ends_open=False)
+    impacts = contacts(events, 10 * case.dt)
+    assert len(impacts) == 9
+    starts = np.array([a for a, _ in impacts]) - L / C
+    np.testing.assert_allclose(starts, 3.0 * L / C * np.arange(9), rtol=0, atol=3 * case.dt)
+    lengths = np.array([b - a for a, b in impacts[:-1]])
+    np.testing.assert_allclose(lengths, L / C, rtol=0, atol=3 * case.dt)
+
+
+def test_restart_after_a_stop_equals_one_run(tmp_path, monkeypatch):
+    """Stopped between kept slabs while the pair is closed, continued with
+    --restart: the events equal the uninterrupted run's bit for bit."""
+    case = bar_wall("seed", every=7)
+    full = solve(tmp_path, case, "full")
+    out = tmp_path / "cut.h5"
+    with monkeypatch.context() as m:
+        m.setattr(driver, "StopSignals", lambda: StopAfter(620))   # inside the contact
+        with pytest.raises(Interrupted):
+            vstpetsc.run(case, output=str(out), quiet=True, out=io.StringIO())
+    cut = vstpetsc.Result(str(out)).contact(0).events
+    assert 0 < cut.shape[0] < full.contact(0).events.shape[0] and cut[-1, 1] == 1.0
+    vstpetsc.run(case, output=str(out), quiet=True, restart=True, out=io.StringIO())
+    assert_same_files(out, full.path)
+
+
+def test_file_of_a_killed_run_keeps_the_events_of_its_blocks(tmp_path, monkeypatch):
+    """The events in a file end where its rows end: those of a run cut at
+    a block are the first ones of the whole run (a killed run's file)."""
+    case = bar_wall("power")
+    full = solve(tmp_path, case, "full").contact(0).events
+    part = solve(tmp_path, case.with_value("time.end", 1.2e-3), "part").contact(0).events
+    assert np.array_equal(part, full[:part.shape[0]])
+    assert part[-1, 1] == 1.0 and np.all(full[part.shape[0]:, 0] > 1.2e-3)
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+def test_two_ranks_equal_one(tmp_path):
+    """bar-wall (seed: many events) on two ranks: the events of one rank."""
+    case = write_case(tmp_path, bar_wall("seed"), "bar-wall")
+    one = solve(tmp_path, bar_wall("seed"), "one").contact(0).events
+    p = mpirun("run", case, "-o", tmp_path / "two.h5", "--quiet")
+    assert p.returncode == 0, p.stderr
+    two = vstpetsc.Result(str(tmp_path / "two.h5")).contact(0).events
+    assert one.shape == two.shape
+    np.testing.assert_allclose(two, one, rtol=0, atol=0)
+
+
+def test_info_prints_the_contact_durations(tmp_path):
+    """`vstpetsc info`: per pair the number of contacts and each duration."""
+    r = solve(tmp_path, bar_wall("power"))
+    events = r.contact(0).events
+    closes, opens = events[events[:, 1] > 0, 0], events[events[:, 1] < 0, 0]
+    p = cli("info", r.path)
+    assert p.returncode == 0, p.stderr
+    line, = [x for x in p.stdout.splitlines() if x.strip().startswith("contact[0]")]
+    n = closes.size
+    assert line.strip().startswith(f"contact[0] bar | wall: {n} contact{'s' * (n > 1)}, ")
+    assert f"{opens[0] - closes[0]:.6g} s (close {closes[0]:.6g}, open {opens[0]:.6g})" in line
+
+
+def test_info_keeps_many_contacts_short(tmp_path):
+    """Many contacts: the total and the first three only."""
+    r = solve(tmp_path, bar_wall("seed"))
+    events = r.contact(0).events
+    n = int((events[:, 1] > 0).sum())
+    assert n > 3
+    line, = [x for x in cli("info", r.path).stdout.splitlines() if "contact[0]" in x]
+    assert f": {n} contacts, total " in line
+    assert line.count("(close ") == 3 and line.endswith(", ...")
+
+
+def test_export_csv_writes_the_events(tmp_path):
+    r = solve(tmp_path, bar_wall("power"))
+    p = cli("export", r.path, "--csv", tmp_path / "csv")
+    assert p.returncode == 0, p.stderr
+    data = np.loadtxt(tmp_path / "csv" / "contact-0-events.csv", delimiter=",", skiprows=1,
+                      ndmin=2)
+    header = (tmp_path / "csv" / "contact-0-events.csv").read_text().splitlines()[0]
+    assert header == "time,change"
+    assert np.array_equal(data, r.contact(0).events)
