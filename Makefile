@@ -21,7 +21,7 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
 export MPLBACKEND := agg
 
-.PHONY: install demo test bench bench-quick bench-parallel soak clean formulations figures
+.PHONY: install demo test bench bench-quick bench-parallel bench-opensees soak clean formulations figures
 
 install: $(STAMP) $(NATIVE)
 
@@ -55,13 +55,24 @@ formulations: install
 figures: install
 	$(PY) docs/make_figures.py
 
+# openseespy (PyPI) for bench/opensees.py only: `make test` never needs it.
+OPENSEES := $(VENV)/.opensees
+
+$(OPENSEES): $(STAMP)
+	$(PY) -m pip install --disable-pip-version-check -q openseespy
+	touch $@
+
 # Speed is measured here, never asserted in tests.
-bench: install
+bench: install $(OPENSEES)
 	$(PY) bench/run.py
+	$(PY) bench/opensees.py
 	$(PY) bench/parallel_solvers.py
 
 bench-quick: install
 	$(PY) bench/run.py --quick --out bench/quick
+
+bench-opensees: install $(OPENSEES)
+	$(PY) bench/opensees.py
 
 bench-parallel: install
 	$(PY) bench/parallel_solvers.py
