@@ -5,24 +5,40 @@ Node ``n_k`` of the pair gets the residual ``-c_k w G_a`` with
 ``G_a = int min(0, g) phi_a dt`` over the slab, integrated exactly over the
 active part {g < 0} (:mod:`vstpetsc.laws.gap`); ``phi_a`` is I_a for "seed"
 (w = eps) and T_a for "power" (w = k).
+
+With ``redistribute_mass`` ("power" only) the mass of the pair's contact
+nodes moves to their inner neighbours (Khenous, Laborde & Renard 2008): a
+massless contact node cannot ring on the penalty spring, and the contact
+force follows the arriving wave (docs/accuracy.md).
 """
 
 from vstpetsc.laws.gap import active_intervals, closed_on_slab, gap_coefficients, pair_integrals
 from vstpetsc.laws.pair import PairLaw
 
-KEYS = ("penalty",)
+KEYS = ("penalty", "redistribute_mass")
+# the default penalty as a multiple of the stiffer body's largest E A / h
 DEFAULT_BETA = 50.0
 
 
 def read(chk, tbl, where):
-    """The formulation's own keys: an optional positive ``penalty``."""
+    """The formulation's own keys: an optional positive ``penalty`` and an
+    optional boolean ``redistribute_mass`` (default false)."""
     penalty = chk.number(tbl, "penalty", where, required=False, positive=True)
     if penalty is None and "penalty" in tbl:
         return None
-    return {"penalty": penalty}
+    moved = tbl.get("redistribute_mass")
+    if moved is not None and not isinstance(moved, bool):
+        chk.add(f"{where}.redistribute_mass", f"must be true or false, got {moved!r}")
+        return None
+    if moved and tbl.get("formulation", "seed") == "seed":
+        chk.add(f"{where}.redistribute_mass", "the seed formulation does not conserve energy "
+                "with a massless contact node (it gains energy at every impact); use "
+                "formulation = \"power\"")
+        return None
+    return {"penalty": penalty, "redistribute_mass": moved}
 
 
-def default_penalty(formulation, stiffness, dt, beta=DEFAULT_BETA):
+def default_penalty(formulation, stiffness, dt, beta=None):
     """Penalty used when the case gives none.
 
     "power": k = beta E A / h, a contact spring ``beta`` times as stiff as
@@ -33,7 +49,7 @@ def default_penalty(formulation, stiffness, dt, beta=DEFAULT_BETA):
     ``beta (E A / h) / dt^2``, which is not dimensionally consistent (the
     contact stiffness would change with the unit of time), so 1/dt.
     """
-    k = beta * stiffness
+    k = (DEFAULT_BETA if beta is None else beta) * stiffness
     return k if formulation == "power" else 2.0 * k / dt
 
 
@@ -48,8 +64,25 @@ class PenaltyContact(PairLaw):
         self.penalty = spec.params["penalty"] if self.given else \
             default_penalty(spec.formulation, stiffness, case.dt)
         self.power = spec.formulation == "power"
+        self.redistribute = bool(spec.params.get("redistribute_mass"))
+        self.inner = [inner_neighbour(mesh, b, end) for b, end in
+                      ((spec.left, "right"), (spec.right, "left")) if b is not None]
         self.last = None
         self.rates = None           # the closing rates of the last force() that acted
+
+    def add_operators(self, ops):
+        """Move each contact node's mass (its row of M) to its inner
+        neighbour, keeping the total: M's entries of the node go to the
+        neighbour's diagonal."""
+        if not self.redistribute:
+            return
+        for node, inner in self.inner:
+            if inner is None:
+                continue
+            edge = min(node, inner)
+            ops.m_diag[inner] += ops.m_diag[node] + 2.0 * ops.m_off[edge]
+            ops.m_diag[node] = 0.0
+            ops.m_off[edge] = 0.0
 
     def acts(self, d1, d2):
         return closed_on_slab(self.gn, d1, d2, self.dt)
@@ -81,12 +114,23 @@ class PenaltyContact(PairLaw):
                        if last else ())
 
     def attrs(self):
-        return {**super().attrs(), "penalty": self.penalty}
+        return {**super().attrs(), "penalty": self.penalty,
+                "redistribute_mass": int(self.redistribute)}
 
     def describe(self):
         given = "given" if self.given else "default"
+        moved = ", contact nodes' mass moved inward" if self.redistribute else ""
         return (f"{super().describe()}, {self.formulation} penalty {self.penalty:.6g} "
-                f"({given})")
+                f"({given}){moved}")
+
+
+def inner_neighbour(mesh, body, end):
+    """(the end node, its neighbour inside the body), the neighbour None for
+    a body of one element (both its nodes are ends: nothing to move)."""
+    node = mesh.end_node(body, end)
+    if mesh.first[body + 1] - mesh.first[body] < 3:
+        return node, None
+    return node, node - 1 if end == "right" else node + 1
 
 
 def build(spec, index, case, mesh):
