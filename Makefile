@@ -21,7 +21,7 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
 export MPLBACKEND := agg
 
-.PHONY: install demo test bench bench-quick bench-parallel bench-opensees soak clean formulations figures
+.PHONY: install demo test bench bench-quick bench-parallel bench-opensees soak clean formulations figures accuracy
 
 install: $(STAMP) $(NATIVE)
 
@@ -76,6 +76,13 @@ bench-opensees: install $(OPENSEES)
 
 bench-parallel: install
 	$(PY) bench/parallel_solvers.py
+
+# The accuracy study's tables (docs/accuracy.md): bar-wall by variant and
+# Courant number, against the mesh, and the standing wave.
+accuracy: install
+	$(PY) bench/impact_study.py impact
+	$(PY) bench/impact_study.py mesh
+	$(PY) bench/impact_study.py wave
 
 # The reliability catalogue many times over (random kills, signals, full disks).
 soak: install
