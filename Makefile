@@ -82,6 +82,7 @@ bench-parallel: install
 accuracy: install
 	$(PY) bench/impact_study.py impact
 	$(PY) bench/impact_study.py mesh
+	$(PY) bench/impact_study.py moved
 	$(PY) bench/impact_study.py wave
 
 # The reliability catalogue many times over (random kills, signals, full disks).
