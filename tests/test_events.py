@@ -229,3 +229,27 @@ def test_export_csv_writes_the_events(tmp_path):
     header = (tmp_path / "csv" / "contact-0-events.csv").read_text().splitlines()[0]
     assert header == "time,change"
     assert np.array_equal(data, r.contact(0).events)
+
+
+def test_restart_cuts_events_written_after_the_last_row(tmp_path, monkeypatch):
+    """A block killed between its events and its rows leaves events of
+    slabs after the file's last row: the restart cuts them (each row counts
+    the events up to its slab, ``event_count``) and ends bit for bit."""
+    import h5py
+
+    case = bar_wall("seed", every=7)
+    full = solve(tmp_path, case, "full")
+    out = tmp_path / "cut.h5"
+    with monkeypatch.context() as m:
+        m.setattr(driver, "StopSignals", lambda: StopAfter(620))   # inside the contact
+        with pytest.raises(Interrupted):
+            vstpetsc.run(case, output=str(out), quiet=True, out=io.StringIO())
+    later = full.contact(0).events[:]
+    with h5py.File(out, "r+") as f:                 # as a kill mid-block leaves it
+        events = f["contact/0/events"]
+        n = events.shape[0]
+        assert f["contact/0/event_count"][-1] == n
+        events.resize((later.shape[0], 2))
+        events[n:] = later[n:]
+    vstpetsc.run(case, output=str(out), quiet=True, restart=True, out=io.StringIO())
+    assert_same_files(out, full.path)

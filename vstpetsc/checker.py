@@ -53,9 +53,8 @@ class HistoryChecks:
         {table = [[t, v], ...], scale, integrate}."""
         self.unknown(val, RECORD_KEYS, name)
         scale = self.number(val, "scale", name, required=False, default=1.0)
-        integrate = val.get("integrate", False)
-        if not isinstance(integrate, bool):
-            self.add(f"{name}.integrate", f"must be true or false, got {show(integrate)}")
+        integrate = self.boolean(val, "integrate", name)
+        if integrate is None:
             return None
         if ("file" in val) == ("table" in val):
             self.add(name, "give either file = \"...\" or table = [[t, value], ...]")
@@ -245,6 +244,14 @@ class Checker(HistoryChecks):
             self.add(f"{where}.{key}", f"must be >= {minimum}, got {val}")
             return None
         return int(val)
+
+    def boolean(self, tbl, key, where, default=False):
+        """An optional true or false (None after reporting another value)."""
+        val = tbl.get(key, default)
+        if not isinstance(val, bool):
+            self.add(f"{where}.{key}", f"must be true or false, got {show(val)}")
+            return None
+        return val
 
     def string(self, tbl, key, where, required=True, default=None, choices=None):
         val = self.take(tbl, key, where, required, default)

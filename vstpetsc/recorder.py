@@ -75,6 +75,10 @@ class Recorder:
         def create():
             if restart:
                 self.writer = ResultWriter.reopen(self.lock, attrs, self.interval)
+                # events of slabs after the last row (a block killed midway)
+                self.writer.events.truncate({name: law.totals["event_count"]
+                                             for law, name in self.event_sets})
+                self.writer.events.complete()
                 return
             first = self.rows.row(0, u, v, (0, 0), 0.0, self.energy.row(u, v, {}))
             if len(self.gauges):
@@ -177,9 +181,9 @@ class Recorder:
 
 
 def _finite(energy):
-    """Whether every energy is finite (a sum of floats: one inf or NaN
-    makes it inf or NaN; cheap enough for every kept row)."""
-    return math.isfinite(sum(energy.values()))
+    """Whether every energy is finite (each value: a sum of two large
+    finite ones may overflow)."""
+    return all(map(math.isfinite, energy.values()))
 
 
 def load_restart(path, case, model, energy):
@@ -225,7 +229,11 @@ def _changed_inputs(f, case):
 
     if "input_digests" not in f.attrs:
         return []
-    stored = json.loads(f.attrs["input_digests"])
+    try:
+        stored = dict(json.loads(f.attrs["input_digests"]))
+    except (TypeError, ValueError):
+        raise InputError("--restart: the file's input_digests attribute is damaged (not a "
+                         "vstpetsc result?)") from None
     return [name for name, digest in case.input_digests.items()
             if name in stored and stored[name] != digest]
 

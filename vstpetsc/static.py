@@ -77,7 +77,10 @@ def static_state(model, dt):
     problem = StaticProblem(model, dt)
     u = problem.rest()
     u, w = problem.stationary(u)
-    return StaticStart(u, -w, HeldReactions(problem.absorbing, problem.reactions(u, w)))
+    reactions = problem.reactions(u, w)
+    for law in problem.laws:       # the slab terms of the last evaluation: none yet
+        law.last = None
+    return StaticStart(u, -w, HeldReactions(problem.absorbing, reactions))
 
 
 def static_forces(laws, nnodes):
@@ -275,7 +278,11 @@ def floating(J):
 
 
 def _lu(J):
-    return scipy.sparse.linalg.splu(J)
+    try:
+        return scipy.sparse.linalg.splu(J)
+    except RuntimeError:                  # exactly singular
+        raise InputError("gravity.initial: the static state's equations are singular "
+                         "(a body or node that nothing holds)") from None
 
 
 def _listed(word, names):

@@ -7,7 +7,8 @@ import numpy as np
 from vstpetsc.laws.base import Law
 
 # running totals over every slab (exact whatever `every` is)
-TOTALS = ("impulse_total", "contact_time", "episodes", "force_peak", "first_contact")
+TOTALS = ("impulse_total", "contact_time", "episodes", "force_peak", "first_contact",
+          "event_count")
 WALL = "wall"
 
 
@@ -72,6 +73,13 @@ class PairLaw(Law):
         [(p, q)] of [0, 1] where the pair acts: a close at p, an open at q
         inside the slab; a piece reaching a slab end continues the state
         across it (no open and close at the boundary while in contact)."""
+        events, before = self.events, len(self.events)
+        self._track(t0, dt, intervals)
+        # the count of events with every kept row: a restart cuts the
+        # events dataset there (a block killed midway may hold later ones)
+        self.totals["event_count"] += len(events) - before
+
+    def _track(self, t0, dt, intervals):
         closed, events = self.closed, self.events
         if not intervals:
             if closed:              # it acted up to the end of the last slab

@@ -26,9 +26,8 @@ def read(chk, tbl, where):
     penalty = chk.number(tbl, "penalty", where, required=False, positive=True)
     if penalty is None and "penalty" in tbl:
         return None
-    moved = tbl.get("redistribute_mass")
-    if moved is not None and not isinstance(moved, bool):
-        chk.add(f"{where}.redistribute_mass", f"must be true or false, got {moved!r}")
+    moved = chk.boolean(tbl, "redistribute_mass", where)
+    if moved is None:
         return None
     if moved and tbl.get("formulation", "seed") == "seed":
         chk.add(f"{where}.redistribute_mass", "the seed formulation does not conserve energy "

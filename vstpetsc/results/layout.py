@@ -230,8 +230,9 @@ def last_state(f, model):
     laws = {law.group: {key: f[f"{law.group}/{key}"][-1] for key in law.series}
             for law in model.recorded}
     for law, name in event_sets(model):
-        # the events in the file end with the last row's slab (written with the blocks)
-        events = f[name]
-        laws[law.group]["closed"] = events.shape[0] > 0 and events[-1, 1] > 0
+        # the last row's count of events: a block killed midway may have
+        # written events of later slabs (the writer cuts them on reopening)
+        count = int(laws[law.group]["event_count"])
+        laws[law.group]["closed"] = count > 0 and f[name][count - 1, 1] > 0
     energies = [{key.split("/")[1]: f[key][i] for key in ENERGY} for i in (0, -1)]
     return k, u, v, laws, energies[0], energies[1]

@@ -137,6 +137,13 @@ class EventRows:
             _append(self.ids[name], self.n[name], rows)
             self.n[name] += rows.shape[0]
 
+    def truncate(self, counts):
+        """Keep the first ``counts[name]`` events of each set (a restart
+        from the last row, which counts the events up to its slab)."""
+        for name, count in counts.items():
+            self.n[name] = min(int(count), self.n[name])
+            self.ids[name].set_extent((self.n[name], 2))
+
     def complete(self):
         """The counts of rows on disk (after an HDF5 flush)."""
         for name, attr in self.counts.items():
