@@ -144,7 +144,7 @@ AT2_HEADS = (re.compile(r"NPTS\s*=\s*(\S+?)\s*,?\s*DT\s*=\s*([^\s,]+?)\s*(?:SECS
 # What the third header line may say the values are in; g is what vstpetsc
 # reads, anything else is refused rather than guessed (a factor of 981 or
 # 9.81 off otherwise).
-AT2_UNITS = re.compile(r"UNITS?\s*(?:OF|:|=|IN)?\s*([A-Z0-9/*^.\-]+)", re.I)
+AT2_UNITS = re.compile(r"\bUNITS?\b\s*(?:OF|:|=|IN)?\s*([A-Z0-9/*^.\-]+)", re.I)
 
 
 def read_at2(path):
