@@ -5,7 +5,6 @@ folder, an error on one rank of an mpirun sweep, empty summaries to plot."""
 import fcntl
 import os
 import shutil
-import subprocess
 import sys
 
 import pytest
@@ -13,19 +12,17 @@ import pytest
 import faults
 import vstpetsc
 from conftest import bar, cli, make_case, write_case
+from test_parallel import mpirun as parallel_mpirun
 from test_sweep import wall_case
 from vstpetsc.sweep import LOCK, quantities, read_summary
 
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_btl_vader_single_copy_mechanism="none")
 needs_mpirun = pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
 
 
-def mpirun(*args, program=faults.VSTPETSC, timeout=90):
-    """mpirun -n 2; a hang fails the test (TimeoutExpired) instead of
-    blocking the suite."""
-    return subprocess.run(["mpirun", "-n", "2", *program.split(), *map(str, args)],
-                          capture_output=True, text=True, timeout=timeout, env=ENV)
+def mpirun(*args, timeout=90, **kw):
+    """mpirun -n 2 (test_parallel's) with a shorter limit: a hang fails the
+    test (TimeoutExpired) instead of blocking the suite."""
+    return parallel_mpirun(*args, timeout=timeout, **kw)
 
 
 def ours(p):
