@@ -158,16 +158,23 @@ def test_periodic_impacts_every_three_transit_times(tmp_path):
     np.testing.assert_allclose(lengths, L / C, rtol=0, atol=3 * case.dt)
 
 
-def test_restart_after_a_stop_equals_one_run(tmp_path, monkeypatch):
-    """Stopped between kept slabs while the pair is closed, continued with
-    --restart: the events equal the uninterrupted run's bit for bit."""
+def stopped_in_contact(tmp_path, monkeypatch):
+    """(case, its uninterrupted Result, the file of the same run stopped
+    at slab 620, inside the contact)."""
     case = bar_wall("seed", every=7)
     full = solve(tmp_path, case, "full")
     out = tmp_path / "cut.h5"
     with monkeypatch.context() as m:
-        m.setattr(driver, "StopSignals", lambda: StopAfter(620))   # inside the contact
+        m.setattr(driver, "StopSignals", lambda: StopAfter(620))
         with pytest.raises(Interrupted):
             vstpetsc.run(case, output=str(out), quiet=True, out=io.StringIO())
+    return case, full, out
+
+
+def test_restart_after_a_stop_equals_one_run(tmp_path, monkeypatch):
+    """Stopped between kept slabs while the pair is closed, continued with
+    --restart: the events equal the uninterrupted run's bit for bit."""
+    case, full, out = stopped_in_contact(tmp_path, monkeypatch)
     cut = vstpetsc.Result(str(out)).contact(0).events
     assert 0 < cut.shape[0] < full.contact(0).events.shape[0] and cut[-1, 1] == 1.0
     vstpetsc.run(case, output=str(out), quiet=True, restart=True, out=io.StringIO())
@@ -237,13 +244,7 @@ def test_restart_cuts_events_written_after_the_last_row(tmp_path, monkeypatch):
     the events up to its slab, ``event_count``) and ends bit for bit."""
     import h5py
 
-    case = bar_wall("seed", every=7)
-    full = solve(tmp_path, case, "full")
-    out = tmp_path / "cut.h5"
-    with monkeypatch.context() as m:
-        m.setattr(driver, "StopSignals", lambda: StopAfter(620))   # inside the contact
-        with pytest.raises(Interrupted):
-            vstpetsc.run(case, output=str(out), quiet=True, out=io.StringIO())
+    case, full, out = stopped_in_contact(tmp_path, monkeypatch)
     later = full.contact(0).events[:]
     with h5py.File(out, "r+") as f:                 # as a kill mid-block leaves it
         events = f["contact/0/events"]
