@@ -24,6 +24,7 @@ from vstpetsc.results import layout
 from vstpetsc.results.files import held
 
 RETRY_SECONDS = 5.0      # how long reads of a file being written are retried
+STEADY_READS = 20        # most outline reads of a file being written
 # what h5py raises for metadata read half written (retried while a run
 # holds the file); a damaged file raises these too, after no retry
 HDF5_ERRORS = (OSError, RuntimeError, KeyError)
@@ -59,12 +60,26 @@ class Result:
         if not os.path.isfile(self.path):
             raise InputError(f"{self.path}: no such file")
         try:
-            missing, self.bodies, self.ncontacts, self._rows, self._gauge_rows = \
-                self._with_file(_outline)
+            missing, self.bodies, self.ncontacts, self._rows, self._gauge_rows, self._names = \
+                self._steady_outline()
         except HDF5_ERRORS + (ValueError, IndexError):
             raise InputError(f"{self.path}: not an HDF5 file, or a damaged one") from None
         if missing:
             raise InputError(f"{self.path}: not a vstpetsc result (no {', '.join(missing)})")
+
+    def _steady_outline(self):
+        """The file's outline; while a run holds the file, read until two
+        reads in a row name the same groups and datasets (a read that met
+        the run rewriting the root's header may miss a name silently)."""
+        outline = self._with_file(_outline)
+        for _ in range(STEADY_READS):
+            if not held(self.path):
+                break
+            again = self._with_file(_outline)
+            outline, same = again, again[-1] == outline[-1]
+            if same:
+                break
+        return outline
 
     def _open(self):
         # a run may be writing the file: read it without HDF5's file lock
@@ -101,7 +116,11 @@ class Result:
         """Dataset ``name``, or the part of it that ``selection`` (an index
         expression, e.g. ``np.s_[rows, :]``) picks, as an array."""
         def part(f):
-            if name not in f or not isinstance(f[name], h5py.Dataset):
+            if name.strip("/") not in self._names:
+                return None
+            if name not in f:                   # named in the outline: a racing read
+                raise KeyError(name)
+            if not isinstance(f[name], h5py.Dataset):
                 return None
             ds = f[name]
             rows = self._rows_of(name, ds)
@@ -113,18 +132,25 @@ class Result:
         return found
 
     def __contains__(self, name):
-        return self._with_file(lambda f: name in f)
+        return name.strip("/") in self._names
 
     def keys(self, group=""):
-        """Names of the datasets and groups under ``group``."""
-        return self._with_file(lambda f: list(f[group].keys()) if group else list(f.keys()))
+        """Names of the datasets and groups under ``group`` (as the file
+        had them when the Result was made), in the file's order."""
+        group = group.strip("/")
+        if group and group not in self._names:
+            raise KeyError(f"{self.path} has no group {group!r}")
+        prefix = group + "/" if group else ""
+        return [n[len(prefix):] for n in self._names
+                if n.startswith(prefix) and "/" not in n[len(prefix):]]
 
     def series(self, group):
         """{name: array} of the 1-D series of ``group`` (datasets that grow
         with the run), in the file's order."""
         def read(f):
+            datasets = {k: f[f"{group}/{k}"] for k in self.keys(group)}
             return {k: _rows(d, self._rows_of(f"{group}/{k}", d), ())
-                    for k, d in f[group].items()
+                    for k, d in datasets.items()
                     if isinstance(d, h5py.Dataset) and d.ndim == 1 and d.maxshape[0] is None}
         return self._with_file(read)
 
@@ -218,11 +244,14 @@ class Result:
 
 def _outline(f):
     """(missing required names, body names left to right, number of
-    contact pairs, complete rows, complete gauge rows) of an open file."""
+    contact pairs, complete rows, complete gauge rows, the names of every
+    group and dataset) of an open file."""
     missing = [k for k in layout.REQUIRED if k not in f]
     bodies = [name for _, name in sorted((f[layout.body_path(n, "x")][0], n)
                                          for n in f[layout.BODY])] if not missing else []
     ncontacts = len(f[layout.CONTACT]) if layout.CONTACT in f else 0
+    names = []
+    f.visit(names.append)
     kept, every_slab = [], []
     f.visititems(lambda name, obj: (every_slab if layout.every_slab(name) else kept).append(
         obj.shape[0]) if isinstance(obj, h5py.Dataset) and obj.maxshape
@@ -230,7 +259,7 @@ def _outline(f):
     counts = [min(lengths + [int(f.attrs.get(attr, np.iinfo(np.int64).max))])
               if lengths else 0 for lengths, attr in
               ((kept, layout.COMPLETE_ROWS), (every_slab, layout.COMPLETE_GAUGE_ROWS))]
-    return missing, bodies, ncontacts, *counts
+    return missing, bodies, ncontacts, *counts, names
 
 
 def _rows(ds, rows, selection):
