@@ -70,3 +70,15 @@ def assert_tangent(law, y, got, h, rtol, floor):
         for a in range(2):
             exact = got[2 + 2 * a + j]
             assert abs((fp[a] - fm[a]) / (2 * h) - exact) <= rtol * max(abs(exact), floor)
+
+
+def compliance_delay(r, impedance):
+    """2 Z / k: how much later a penalty spring of (slab-mean) stiffness k
+    lets go than a rigid contact would, for the impedance Z the spring sees
+    (a bar on a wall: the bar's; two bars: theirs in series).  The force
+    rises and falls with the time constant Z / k of the spring loading a
+    dashpot Z."""
+    a = r.contact(0).attrs
+    k = {"power": a.get("penalty"), "cushion": a.get("stiffness"),
+         "seed": 0.5 * a.get("penalty", 0.0) * r.attrs["dt"]}[a["formulation"]]
+    return 2.0 * impedance / k

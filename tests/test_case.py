@@ -143,7 +143,7 @@ def test_dry_run_prints_model_and_solves_nothing(tmp_path):
     p = cli("run", path, "--dry-run")
     assert p.returncode == 0, p.stderr
     assert "2 bodies, 22 nodes, 20 elements" in p.stdout and "100 slabs" in p.stdout
-    assert "contact[0] a | b: gap 0.1, seed penalty" in p.stdout and "(default)" in p.stdout
+    assert "contact[0] a | b: gap 0.1, power penalty" in p.stdout and "(default)" in p.stdout
     assert "contact[1] b | wall: gap 0.5" in p.stdout
     assert not (tmp_path / "result.h5").exists()
 

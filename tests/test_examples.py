@@ -9,7 +9,7 @@ import pytest
 
 import vstpetsc
 from vstpetsc import analysis
-from conftest import cli, solve
+from conftest import cli, compliance_delay, solve
 from vstpetsc import bundled
 
 
@@ -85,9 +85,9 @@ def test_bar_wall(results):
     g0 = case.contacts[0].wall - body.x[1]
     start, end, J = phase(r)
     assert abs(start - g0 / v0) <= 2 * dt
-    assert abs((end - start) - 2 * L / c) <= 2 * dt
-    assert abs(J / (end - start) / (Z * v0) - 1) <= 0.03
-    assert abs(r.body("bar").v[-1].mean() + v0) <= 0.03 * v0
+    assert abs((end - start) - 2 * L / c - compliance_delay(r, Z)) <= 2 * dt
+    assert abs(J / (2 * Z * v0 * L / c) - 1) <= 0.01          # the momentum m v0 turned round
+    assert abs(r.body("bar").v[-1].mean() + v0) <= 0.01 * v0
 
 
 def test_two_bars(results):
@@ -121,21 +121,25 @@ def test_periodic_impacts_repeat(results):
     compression wave and the clamp's reflected tension wave cross, and the
     tension reaches the wall at 2 L/c and lifts the end off; at 3 L/c the
     bar is back in its initial state.  Contact over [L/c, 2 L/c] + 3 k L/c,
-    force E A s, largest gap s L."""
+    force E A s, largest gap s L; the penalty's compliance delays each
+    release, and so each later impact, by up to 2 Z / k."""
     r = results["periodic-impacts"]
     case = case_of(r)
     body, dt = case.bodies[0], case.dt
-    c, _ = material(body)
+    c, Z = material(body)
     L = body.x[1] - body.x[0]
     s = -body.u0(body.x[1]) / L
+    delay = compliance_delay(r, Z)
     t, J = r.time, r.contact(0).impulse
     on = np.diff(np.r_[0, (J > 0).astype(int), 0])
     starts, ends = t[np.nonzero(on == 1)[0] - 1], t[np.nonzero(on == -1)[0] - 1]
-    exact = (1 + 3 * np.arange(starts.size)) * L / c
+    rigid = (1 + 3 * np.arange(starts.size)) * L / c
     assert starts.size == int(np.floor((t[-1] * c / L - 1) / 3)) + 1
-    assert np.abs(starts - exact).max() <= 2 * dt
+    late = starts - rigid
+    assert np.all(late >= -2 * dt) and np.all(late <= np.arange(starts.size) * delay + 2 * dt)
     complete = ends < t[-1]
-    assert np.abs((ends - starts)[complete] - L / c).max() <= 2 * dt
+    longer = (ends - starts)[complete] - L / c
+    assert np.all(longer >= -2 * dt) and np.all(longer <= delay + 2 * dt)
     episode = np.cumsum(on[:-1] == 1) * (J > 0)          # episode number of each slab
     E, _, A = constants(body)
     impulses = np.bincount(episode, J)[1:][complete] / (E * A * s * L / c)

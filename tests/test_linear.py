@@ -131,7 +131,7 @@ def test_result_file_layout_and_every(tmp_path):
         assert attr in r.attrs, attr
     assert r.attrs["status"] == "completed"
     assert r.attrs["case"] == case.to_toml()
-    assert r.attrs["mpi_size"] == 1 and r.attrs["formulation"] == "seed"
+    assert r.attrs["mpi_size"] == 1 and r.attrs["formulation"] == "power"
     assert r["solver/newton_iterations"][0] == 0 and r["contact/0/force"][0] == 0
     assert np.allclose(r["body/left/v"][0], 1.0) and np.allclose(r["contact/0/gap"][0], 0.5)
     assert np.allclose(r["body/right/x"], np.linspace(1.5, 2.0, 8))

@@ -35,8 +35,8 @@ def test_frequency_error_order(mass, order):
     assert abs(fitted - order) <= 0.1
 
 
-def test_consistent_is_the_default():
-    default = fixed_free(5, "consistent").ops
+def test_averaged_is_the_default():
+    default = fixed_free(5, "averaged").ops
     case = make_case(1e-3, 1e-2, [bar("bar", [0.0, 1.0], 5, E=1.0, rho=1.0)])
     ops = model_mod.build_model(case).ops
     assert np.array_equal(ops.m_diag[1:-1], default.m_diag[1:-1])

@@ -249,7 +249,7 @@ def _body(chk, tbl, i, names):
               chk.history(tbl, "v0", where, "x"), chk.history(tbl, "u0", where, "x"),
               _pair_of(chk, tbl, "damping", where, ("alpha", "beta")),
               _pair_of(chk, tbl, "foundation", where, ("stiffness", "damping")),
-              chk.string(tbl, "mass", where, required=False, default="consistent",
+              chk.string(tbl, "mass", where, required=False, default="averaged",
                          choices=tuple(MASSES)))
     return name, None if any(f is None for f in fields) else Body(*fields)
 
@@ -297,7 +297,8 @@ def read_contacts(chk, tables, bodies, names):
     contacts, ends_used = [], {}
     for i, tbl in enumerate(tables):
         where = f"contact[{i}]"
-        form = chk.string(tbl, "formulation", where, required=False, default="seed",
+        form = chk.string(tbl, "formulation", where, required=False,
+                          default=laws.penalty.DEFAULT_FORMULATION,
                           choices=tuple(laws.CONTACT))
         allowed = ("pair", "formulation", "wall") + (laws.CONTACT[form].KEYS if form else ())
         chk.unknown(tbl, allowed, where)
