@@ -160,7 +160,7 @@ def test_the_seed_method_is_kept():
     seed = vstpetsc.Case.from_dict(doc)
     model = model_mod.build_model(seed)
     law, = [law for law in model.nonlinear if law.group == "contact/0"]
-    assert law.penalty == pytest.approx(2.0 * 50.0 * STEEL["E"] * elements / seed.dt, rel=1e-15)
+    assert law.penalty == pytest.approx(2.0 * 50.0 * STEEL["E"] * elements / seed.dt, rel=1e-12)
     h = 1.0 / elements
     assert np.allclose(model.ops.m_diag[1:-1], 4.0 * STEEL["rho"] * h / 6.0, rtol=1e-14)
     assert np.allclose(model.ops.m_off, STEEL["rho"] * h / 6.0, rtol=1e-14)
