@@ -68,13 +68,14 @@ def floor(text, solves=200, reps=5):
 def per_slab(path, contact):
     """(seconds per slab, mean Newton iterations, share of slabs with an
     active law) over the middle 80 % of a result file's slabs; for a
-    contact case over its slabs where the pair carries a force only (a
+    contact case over its slabs where a pair carries a force only (a
     pair may let go for a while as the waves pass; a steady contact may
     need no Newton step: its guess from the slab before already holds)."""
     with h5py.File(path, "r", locking=False) as f:
         wall = f["solver/wall_time"][...]
         newton = f["solver/newton_iterations"][...]
-        acting = f["contact/0/impulse"][...] > 0 if contact else newton > 0
+        acting = np.any([g["impulse"][...] > 0 for g in f["contact"].values()], axis=0) \
+            if contact else newton > 0
     n = wall.size - 1
     a, b = max(1, n // 10), n - n // 10
     step = np.diff(wall)[a - 1:b - 1]          # slab i's time: wall[i] - wall[i - 1]
