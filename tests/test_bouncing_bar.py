@@ -191,6 +191,22 @@ def test_contact_force_follows_the_exact_ramps(run):
     assert np.all(peak >= 0.95)
 
 
+def test_contact_b_overshoots_before_its_release(run):
+    """B ends at Z v0, released exactly as the free vibration's front
+    reaches the foot; the computed force overshoots there (1.35 and 1.45 Z v0
+    at the second and fourth contact; 1.2-1.4 at 50-200 elements, c dt/h
+    0.5-1): within 1.5 Z v0; at least 1.05, so that a change which removes
+    the overshoot shows here and the docs can be corrected."""
+    case, r = run
+    ex = Exact(case)
+    closes, opens = contacts(r)
+    t, force, dt = r.time[:], r.contact(0).force[:], case.dt
+    for a, b in list(zip(closes, opens))[1::2]:
+        last = force[(t > b - 0.2 * ex.tau) & (t <= b + dt)].max() / (ex.Z * ex.v0)
+        print(f"bouncing bar: contact B's force before release {last:.3f} Z v0")
+        assert 1.05 <= last <= 1.5
+
+
 def test_a_finer_mesh_keeps_every_peak_within_five_percent(tmp_path):
     """200 elements at c dt/h = 1: every peak within 1.05."""
     case = example(200, 1.0)
