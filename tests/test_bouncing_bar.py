@@ -113,6 +113,8 @@ def test_the_exact_solution_is_consistent():
     flight = ex.closes(1)[0] + ex.tau + np.linspace(0.0, 2 * ex.period, 100_001)
     airborne = ex.force(flight) == 0
     assert np.all(ex.gap(flight)[airborne][1:-1] >= 0)
+    landing = ex.closes(3)[1:] - 1e-9 * ex.period      # the foot is back on the floor
+    assert np.all(np.abs(ex.gap(landing)) <= 1e-6 * ex.h0)
 
 
 def test_each_close_is_followed_by_an_open(run):
