@@ -123,10 +123,58 @@ def _pile(f, result):
             f"ram's 29.44 kJ (docs/pile-driving.md: the bearing graph, the Smith peer)")
 
 
+def _bouncing(f, result):
+    """Key numbers and the force-and-energy figure of bouncing-bar, against
+    the exact solution of tests/test_bouncing_bar.py."""
+    import matplotlib.pyplot as plt
+
+    sys.path.insert(0, os.path.join(os.path.dirname(HERE), "tests"))
+    from test_bouncing_bar import Exact, contacts
+
+    case = result.case()
+    ex = Exact(case)
+    closes, opens = contacts(result)
+    t, e = result.time, result.energy
+    fine = np.linspace(0.0, t[-1], 200_001)
+    potential = ex.energy - e["external"]          # m g (height of the undeformed foot)
+    total = e["kinetic"] + e["strain"] + e["contact"] + potential
+    fig, (top, bottom, lost) = plt.subplots(3, 1, figsize=(9, 8.5), sharex=True,
+                                            constrained_layout=True,
+                                            gridspec_kw={"height_ratios": [3, 3, 1.5]})
+    top.plot(t, result.contact(0).force, label="vstpetsc (slab-mean force)")
+    top.plot(fine, ex.force(fine), "k--", lw=0.8, label="exact (its contacts start about 2 Z / k "
+             "earlier per bounce: the penalty's release delay)")
+    top.set_ylabel("contact force")
+    top.set_title("bouncing-bar: contact A ramps Z (v0 + g t) up, contact B "
+                  "Z v0 + 2 m g - Z g t down", fontsize=10)
+    top.legend(fontsize=8, loc="upper right")
+    for name, values in (("kinetic", e["kinetic"]), ("strain", e["strain"]),
+                         ("potential (m g h0 - gravity's work)", potential),
+                         ("total", total)):
+        bottom.plot(t, values, label=name)
+    bottom.axhline(ex.energy, color="k", ls="--", lw=0.8, label="exact total m g h0")
+    bottom.set_ylabel("energy")
+    bottom.legend(fontsize=8, loc="center right")
+    lost.plot(t, 100 * (1 - total / ex.energy))
+    lost.set_ylabel("energy lost [%]")
+    lost.set_xlabel("time")
+    fig.savefig(os.path.join(HERE, "figures", "bouncing-bar-bounces.png"), dpi=110)
+    plt.close(fig)
+    delay = 2 * ex.Z / case.contacts[0].params["penalty"]
+    peak = f["contact/0/force_peak"][-1] / (ex.Z * ex.v0 + 2 * ex.m * ex.g)    # every slab
+    return (f"{closes.size} bounces; largest force {peak:.3f} of the exact Z v0 + 2 m g; contacts last "
+            f"{(opens - closes).min():.4f} to {(opens - closes).max():.4f} (exact 2L/c = "
+            f"{ex.tau:.4f}, plus the penalty's 2 Z / k = {delay:.4f}); bounce period "
+            f"{np.diff(closes).mean():.4f} (exact {ex.period:.4f}); energy lost "
+            f"{100 * (1 - total[-1] / ex.energy):.2f} % of m g h0\n\n"
+            "![bouncing-bar force and energy](figures/bouncing-bar-bounces.png)")
+
+
 KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "periodic-impacts": _periodic, "layered": _layered, "wave": _wave,
-       "site-response": _site, "uplift": _uplift, "drop": _drop, "pile": _pile}
-NEEDS_RESULT = {"site-response", "uplift", "drop", "pile"}
+       "site-response": _site, "uplift": _uplift, "drop": _drop, "pile": _pile,
+       "bouncing-bar": _bouncing}
+NEEDS_RESULT = {"site-response", "uplift", "drop", "pile", "bouncing-bar"}
 
 
 def main():

@@ -53,7 +53,8 @@ def test_example_list():
     listed = [line.split()[0] for line in p.stdout.splitlines()]
     assert listed == bundled.names()
     assert set(listed) >= {"bar-wall", "two-bars", "unequal-bars", "periodic-impacts",
-                           "layered", "wave", "site-response", "uplift", "drop"}
+                           "layered", "wave", "site-response", "uplift", "drop",
+                           "bouncing-bar"}
     assert all(bundled.description(n) for n in listed)
 
 
@@ -224,6 +225,19 @@ def test_drop_falls_hits_and_bounces(results):
     assert abs((eps[0][1] - eps[0][0]) - 2 * L / c) <= 2 * kept
     assert abs(first / (2 * mass * v_hit) - 1) < 0.03     # the floor reverses the momentum
     assert len(eps) >= 2
+
+
+def test_bouncing_bar_lands_on_time_and_bounces(results):
+    """The first landing at sqrt(2 h0 / g) and a contact at every bounce
+    (tests/test_bouncing_bar.py compares the whole motion with the exact
+    solution)."""
+    from test_bouncing_bar import Exact, contacts
+
+    r = results["bouncing-bar"]
+    ex = Exact(case_of(r))
+    closes, opens = contacts(r)
+    assert abs(closes[0] - ex.closes(1)[0]) <= 0.05 * case_of(r).dt
+    assert closes.size == np.count_nonzero(ex.closes(20) < r.time[-1])
 
 
 def test_wave_vibrates_in_its_first_mode(results):
