@@ -66,6 +66,7 @@ def test_site_response_with_forty_elements(tmp_path):
 
 
 def test_site_response_goal_reached_with_160_elements(tmp_path):
+    """The goal's 1e-4 takes 160 elements (averaged mass, c dt/h = 1.25)."""
     assert site_error(tmp_path, 160, 1.25, "averaged") <= 1e-4
 
 
