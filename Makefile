@@ -78,12 +78,17 @@ bench-parallel: install
 	$(PY) bench/parallel_solvers.py
 
 # The accuracy study's tables (docs/accuracy.md): bar-wall by variant and
-# Courant number, against the mesh, and the standing wave.
+# Courant number, against the mesh, and the standing wave; waves by mass
+# matrix (docs/wave-accuracy.md).
 accuracy: install
 	$(PY) bench/impact_study.py impact
 	$(PY) bench/impact_study.py mesh
 	$(PY) bench/impact_study.py moved
 	$(PY) bench/impact_study.py wave
+	$(PY) bench/wave_study.py wave
+	$(PY) bench/wave_study.py site
+	$(PY) bench/wave_study.py rigid
+	$(PY) bench/wave_study.py semi
 
 # The reliability catalogue many times over (random kills, signals, full disks).
 soak: install

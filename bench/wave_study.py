@@ -1,0 +1,138 @@
+"""Spatial accuracy of waves by mass matrix (issue 26 item 4;
+docs/wave-accuracy.md). The problems, closed forms and error norms are
+bench/opensees.py's:
+
+wave  the `wave` example's standing wave (u0 exact at the nodes): tip
+      displacement, relative L2 error over two periods;
+site  20 m soil layer on elastic rock, absorbing base with a 10 Hz Ricker
+      incident pulse: surface velocity, relative L2 error over 1.2 s;
+rigid the site layer with the base's velocity prescribed (v_in) instead:
+      the same against the closed form for rigid rock (R = -1);
+semi  the site problem's semi-discrete solution (no time stepping: the
+      assembled M, C, K per frequency, FFT), as assembled and with the
+      base's impedance scaled by 1 - (kh)^2 / 12 (a test of the cause of
+      its second-order error; not realisable in the time domain).
+
+    .venv/bin/python bench/wave_study.py [wave|site|rigid|semi]
+"""
+
+import math
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import opensees as bench  # noqa: E402
+
+SITE = bench.SITE
+Z_SOIL = SITE["rho"] * SITE["c"]
+Z_ROCK = SITE["rho_rock"] * SITE["c_rock"] * bench.AREA
+ELEMENTS = {"wave": (5, 10, 20, 40), "site": (10, 20, 40, 80, 160)}
+COURANTS = {"wave": (2.0, 1.0, 0.5, 0.25, 0.125, 0.0625),
+            "site": (2.0, 1.25, 1.0, 0.5, 0.25, 0.125)}
+
+
+def exact_transfer(omega):
+    """Surface velocity per unit incident velocity of the continuum at
+    angular frequency omega: 2 T e^{-ikH} / (1 - R e^{-2ikH}), the sum of
+    bench.site_surface_exact's multiple reflections."""
+    kh = omega * SITE["H"] / SITE["c"]
+    trans, refl = 2.0 * Z_ROCK / (Z_SOIL + Z_ROCK), (Z_SOIL - Z_ROCK) / (Z_SOIL + Z_ROCK)
+    return 2.0 * trans * np.exp(-1j * kh) / (1.0 - refl * np.exp(-2j * kh))
+
+
+def surface_transfer(ops, omega, scale=1.0):
+    """The same for the semi-discrete model of the operators ``ops`` (base =
+    node 0, surface = the last node): (-omega^2 M + i omega C + K) U =
+    2 Z_rock e_0; ``scale`` multiplies the base's dashpot and incident force."""
+    from vstpetsc import model as model_mod
+
+    m, c, k = model_mod.dense(ops, "mck")
+    c = c.astype(complex)
+    c[0, 0] *= scale
+    force = np.zeros(m.shape[0], dtype=complex)
+    force[0] = 2.0 * Z_ROCK * scale
+    u = np.linalg.solve(-omega ** 2 * m + 1j * omega * c + k, force)
+    return 1j * omega * u[-1]
+
+
+def site_ops(elements, mass, folder):
+    import vstpetsc
+    from vstpetsc import model as model_mod
+
+    doc = bench.vst_case(bench.job_for("site", {"mass": mass}, elements, 1.0), folder)
+    return model_mod.build_model(vstpetsc.Case.from_dict(doc)).ops
+
+
+def semi_discrete_error(elements, mass, corrected, folder, span=8.0, dt=1e-4):
+    """Relative L2 error over [0, 1.2 s] of the semi-discrete surface
+    velocity (the incident table's spectrum times the transfer function,
+    frequencies below 200 Hz; ``corrected``: base impedance scaled by
+    1 - (kh)^2 / 12)."""
+    ops = site_ops(elements, mass, folder)
+    t = np.arange(int(span / dt)) * dt
+    v_in = bench.site_incident()[2]
+    freq = np.fft.rfftfreq(t.size, dt)
+    h = SITE["H"] / elements
+    response = np.zeros(freq.size, dtype=complex)
+    for i, f in enumerate(freq):
+        if 0.0 < f < 200.0:
+            omega = 2.0 * math.pi * f
+            scale = 1.0 - (omega * h / SITE["c"]) ** 2 / 12.0 if corrected else 1.0
+            response[i] = surface_transfer(ops, omega, scale)
+    v = np.fft.irfft(np.fft.rfft(v_in(t)) * response, t.size)
+    keep = t <= SITE["end"]
+    exact = bench.site_surface_exact(t[keep], v_in, SITE["H"], SITE["c"], Z_SOIL, Z_ROCK)
+    return bench.rel_l2(v[keep], exact)
+
+
+def rigid_error(elements, courant, mass, folder):
+    """The site layer with the base's velocity prescribed to v_in."""
+    import io
+
+    import vstpetsc
+
+    doc = bench.vst_case(bench.job_for("site", {"mass": mass}, elements, courant), folder)
+    doc["bc"] = [{"body": "bar", "end": "left", "type": "velocity",
+                  "value": doc["bc"][0]["incident"]}]
+    r = vstpetsc.run(vstpetsc.Case.from_dict(doc), os.path.join(folder, "rigid.h5"),
+                     quiet=True, out=io.StringIO())
+    t = r["time"][1:]
+    # infinitely stiff rock (T = 2, R = -1) moves the base with 2 v_in
+    exact = bench.site_surface_exact(t, bench.site_incident()[2], SITE["H"], SITE["c"],
+                                     Z_SOIL, 1e300)
+    return bench.rel_l2(r["body/bar/v"][1:, -1], 0.5 * exact)
+
+
+def table(name, folder):
+    """Error against elements (rows) and c dt/h (columns), both masses."""
+    print(f"{name}: c dt/h = " + ", ".join(f"{c:g}" for c in COURANTS[name]))
+    for mass in ("averaged", "consistent"):
+        for n in ELEMENTS[name]:
+            errors = [bench.vst_run(bench.job_for(name, {"mass": mass}, n, c), folder)[1]["error"]
+                      for c in COURANTS[name]]
+            print(f"| {mass} | {n} | " + " | ".join(f"{e:.2e}" for e in errors) + " |",
+                  flush=True)
+
+
+def main(part):
+    with tempfile.TemporaryDirectory() as folder:
+        if part in ("wave", "site"):
+            table(part, folder)
+        elif part == "rigid":
+            for n in (10, 20, 40, 80):
+                errors = [rigid_error(n, c, "averaged", folder) for c in (1.0, 0.25, 0.0625)]
+                print(f"rigid averaged {n}: c dt/h = 1, 0.25, 0.0625: "
+                      + " ".join(f"{e:.2e}" for e in errors), flush=True)
+        else:
+            for n in (10, 20, 40, 80):
+                got = [semi_discrete_error(n, "averaged", fix, folder) for fix in (False, True)]
+                print(f"semi-discrete averaged {n}: as assembled {got[0]:.2e}, "
+                      f"base impedance scaled {got[1]:.2e}", flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1] if len(sys.argv) > 1 else "wave")
