@@ -8,7 +8,7 @@ import pytest
 
 import vstpetsc
 from vstpetsc import bundled
-from conftest import solve
+from conftest import compliance_delay, solve
 
 BOUNCES = 5
 
@@ -134,7 +134,7 @@ def test_closing_lift_off_and_period(run):
     0.2 %."""
     case, r = run
     ex = Exact(case)
-    delay = 2 * ex.Z / case.contacts[0].params["penalty"]
+    delay = compliance_delay(r, ex.Z)
     closes, opens = contacts(r)
     spread = 4 * ex.L / case.bodies[0].elements / ex.c
     per_bounce = delay + spread
@@ -142,7 +142,7 @@ def test_closing_lift_off_and_period(run):
     print(f"bouncing bar: closes late by {late / case.dt} dt, contacts "
           f"{(opens - closes - ex.tau - delay) / (spread / 4)} h/c longer than 2L/c + 2Z/k")
     assert abs(late[0]) <= 0.05 * case.dt
-    assert np.all(late >= 0) and np.all(late <= per_bounce * np.arange(closes.size) + 0.05 * case.dt)
+    assert np.all(late >= -0.05 * case.dt) and np.all(late <= per_bounce * np.arange(closes.size) + 0.05 * case.dt)
     longer = opens - closes - ex.tau - delay
     assert np.all(longer >= 0) and np.all(longer <= spread)
     lift_off = opens - (ex.closes(opens.size) + ex.tau)
@@ -195,9 +195,9 @@ def test_contact_force_follows_the_exact_ramps(run):
 
 def test_contact_b_overshoots_before_its_release(run):
     """B ends at Z v0, released exactly as the free vibration's front
-    reaches the foot; the computed force overshoots there (1.35 and 1.45 Z v0
-    at the second and fourth contact; 1.2-1.4 at 50-200 elements, c dt/h
-    0.5-1): within 1.5 Z v0; at least 1.05, so that a change which removes
+    reaches the foot; the computed force overshoots there (1.19 and 1.32 Z v0
+    at the second and fourth contact with the defaults; 1.35 and 1.45 with
+    the contact node's mass moved inward): within 1.5 Z v0; at least 1.05, so that a change which removes
     the overshoot shows here and the docs can be corrected."""
     case, r = run
     ex = Exact(case)
