@@ -24,10 +24,10 @@ DEFAULT_FORMULATION = "power"
 # closes in nine impacts); a hundredth rings far above 1 / dt, where the
 # scheme damps it, and the nine impacts close nine times
 KEPT_FRACTION = 0.01
-# the default penalty as a multiple of the stiffer body's largest E A / h:
-# soft for "power" (with the contact node's mass moved inward, the force
-# then follows the arriving wave; docs/accuracy.md), the seed's old value
-# for "seed" (its results kept bit for bit)
+# the default penalty as a multiple of the bodies' largest E A / h (in
+# series for "power", the stiffer one's for "seed"; default_penalty): soft
+# for "power" (the force then follows the arriving wave; docs/accuracy.md),
+# the seed's old value for "seed" (its results kept bit for bit)
 DEFAULT_BETA = {"power": 0.5, "seed": 50.0}
 
 
@@ -48,19 +48,26 @@ def read(chk, tbl, where):
     return {"penalty": penalty, "redistribute_mass": moved}
 
 
-def default_penalty(formulation, stiffness, dt, beta=None):
-    """Penalty used when the case gives none.
+def default_penalty(formulation, stiffnesses, dt, beta=None):
+    """Penalty used when the case gives none, from the largest E A / h of
+    each body at the pair (one for a wall pair).
 
-    "power": k = beta E A / h, a contact spring ``beta`` times as stiff as
-    the stiffer element at the pair.  "seed": eps = 2 k / dt, the seed's
-    penalty with the same slab-mean force per unit penetration (its residual
-    weight I_a carries one more power of time, so eps has units of
-    force / (length time)).  formulation.md section 4 once suggested
-    ``beta (E A / h) / dt^2``, which is not dimensionally consistent (the
-    contact stiffness would change with the unit of time), so 1/dt.
+    "power": k = beta K with K the bodies' stiffnesses in series (a wall
+    is rigid): the spring then loads the impedance it sees, the bodies' in
+    series, with the same rise time Z / k whether it meets a wall or another
+    body (two equal bars: K = E A / 2h, the peak force as on a wall;
+    docs/accuracy.md).  "seed": eps = 2 k / dt with k = beta times the
+    stiffer body's K, the seed's penalty with that slab-mean force per unit
+    penetration (its residual weight I_a carries one more power of time, so
+    eps has units of force / (length time)).  formulation.md section 4 once
+    suggested ``beta (E A / h) / dt^2``, which is not dimensionally
+    consistent (the contact stiffness would change with the unit of time),
+    so 1/dt.
     """
-    k = (DEFAULT_BETA[formulation] if beta is None else beta) * stiffness
-    return k if formulation == "power" else 2.0 * k / dt
+    beta = DEFAULT_BETA[formulation] if beta is None else beta
+    if formulation == "power":
+        return beta / sum(1.0 / k for k in stiffnesses)
+    return 2.0 * beta * max(stiffnesses) / dt
 
 
 class PenaltyContact(PairLaw):
@@ -69,10 +76,10 @@ class PenaltyContact(PairLaw):
     def __init__(self, spec, index, case, mesh):
         super().__init__(spec, index, case, mesh)
         self.given = spec.params["penalty"] is not None
-        stiffness = max(mesh.body_stiffness(b) for b in (spec.left, spec.right)
-                        if b is not None)
+        stiffnesses = [mesh.body_stiffness(b) for b in (spec.left, spec.right)
+                       if b is not None]
         self.penalty = spec.params["penalty"] if self.given else \
-            default_penalty(spec.formulation, stiffness, case.dt)
+            default_penalty(spec.formulation, stiffnesses, case.dt)
         self.power = spec.formulation == "power"
         self.redistribute = bool(spec.params.get("redistribute_mass"))
         self.inner = [inner_neighbour(mesh, b, end) for b, end in
