@@ -269,7 +269,8 @@ def consistent(out):
     if not np.array_equal(r.time, slabs * dt):
         return False, f"rows not whole: time and slab differ in {n} rows"
     if len(gauges) > 1 or (gauges and gauges.pop() < slabs[-1] + 1):
-        return False, f"gauge series of lengths {sorted(gauges)}, last kept slab {slabs[-1]}"
+        return False, (f"gauge series of lengths {sorted(gauges)}, last kept slab {slabs[-1]} "
+                       f"(gauges {r.gauges}, gauge rows {r._gauge_rows})")
     return True, f"{n} rows"
 
 

@@ -98,15 +98,16 @@ class Result:
                     raise
             time.sleep(0.01)
 
-    def _rows_of(self, name, ds):
-        """The rows of dataset ``name`` a reader sees (None: all of it, a
-        dataset that does not grow with the run)."""
-        if layout.is_events(name.lstrip("/")):      # its own count of rows on disk
+    def _rows_of(self, name, ds=None):
+        """The rows of dataset ``name`` (open as ``ds``) a reader sees
+        (None: all of it, a dataset that does not grow with the run)."""
+        name = name.strip("/")
+        if layout.is_events(name):                 # its own count of rows on disk
             count = ds.attrs.get(layout.COMPLETE_ROWS)
             return None if count is None else int(count)
-        if not ds.maxshape or ds.maxshape[0] is not None:
+        if self._names.get(name) not in ("series", "table"):
             return None
-        return self._gauge_rows if layout.every_slab(name.lstrip("/")) else self._rows
+        return self._gauge_rows if layout.every_slab(name) else self._rows
 
     def __getitem__(self, name):
         """The whole dataset ``name`` (e.g. "contact/0/gap") as an array."""
@@ -147,11 +148,11 @@ class Result:
     def series(self, group):
         """{name: array} of the 1-D series of ``group`` (datasets that grow
         with the run), in the file's order."""
+        top = group.strip("/")
+        names = [k for k in self.keys(top) if self._names[f"{top}/{k}"] == "series"]
+
         def read(f):
-            datasets = {k: f[f"{group}/{k}"] for k in self.keys(group)}
-            return {k: _rows(d, self._rows_of(f"{group}/{k}", d), ())
-                    for k, d in datasets.items()
-                    if isinstance(d, h5py.Dataset) and d.ndim == 1 and d.maxshape[0] is None}
+            return {k: _rows(f[f"{group}/{k}"], self._rows_of(f"{group}/{k}"), ()) for k in names}
         return self._with_file(read)
 
     def group_attrs(self, group=""):
@@ -244,22 +245,33 @@ class Result:
 
 def _outline(f):
     """(missing required names, body names left to right, number of
-    contact pairs, complete rows, complete gauge rows, the names of every
-    group and dataset) of an open file."""
+    contact pairs, complete rows, complete gauge rows, {name: kind} of every
+    group and dataset (:func:`_kind`)) of an open file."""
     missing = [k for k in layout.REQUIRED if k not in f]
     bodies = [name for _, name in sorted((f[layout.body_path(n, "x")][0], n)
                                          for n in f[layout.BODY])] if not missing else []
     ncontacts = len(f[layout.CONTACT]) if layout.CONTACT in f else 0
-    names = []
-    f.visit(names.append)
-    kept, every_slab = [], []
-    f.visititems(lambda name, obj: (every_slab if layout.every_slab(name) else kept).append(
-        obj.shape[0]) if isinstance(obj, h5py.Dataset) and obj.maxshape
-        and obj.maxshape[0] is None and not layout.is_events(name) else None)
+    names, kept, every_slab = {}, [], []
+
+    def note(name, obj):
+        names[name] = _kind(obj)
+        if names[name] in ("series", "table") and not layout.is_events(name):
+            (every_slab if layout.every_slab(name) else kept).append(obj.shape[0])
+    f.visititems(note)
     counts = [min(lengths + [int(f.attrs.get(attr, np.iinfo(np.int64).max))])
               if lengths else 0 for lengths, attr in
               ((kept, layout.COMPLETE_ROWS), (every_slab, layout.COMPLETE_GAUGE_ROWS))]
     return missing, bodies, ncontacts, *counts, names
+
+
+def _kind(obj):
+    """"group", "series" (a 1-D dataset growing with the run), "table" (one
+    growing along its first axis) or "dataset"."""
+    if not isinstance(obj, h5py.Dataset):
+        return "group"
+    if not obj.maxshape or obj.maxshape[0] is not None:
+        return "dataset"
+    return "series" if obj.ndim == 1 else "table"
 
 
 def _rows(ds, rows, selection):
