@@ -138,7 +138,7 @@ def main(out=os.path.join(HERE, "contact-formulations.md")):
         "in both formulations; the durations are measured in whole slabs (a slab",
         "with any contact counts). The power default is a soft spring (50 times",
         "softer than the seed's): it penetrates further and lets go about 2 Z / k",
-        "later (4 h / c against a wall, 2 h / c between two bars; docs/accuracy.md),",
+        "later (4 h / c, against a wall or between two equal bars; docs/accuracy.md),",
         "which lowers the mean force over the longer contact, but it keeps the",
         "peak force within 5 % and loses far less energy. The energy the seed",
         "loses is mostly the scheme's dissipation of the sharp impact fronts at",
