@@ -32,6 +32,9 @@ a_g = a_y or a_g = -a_y_neg. Everything is closed form; the only error is
 rounding. The friction energy is Y(s) m |u(tau_1) - u(tau_0)| summed over
 the sub-intervals of one sign of v (the path length times mu m g).
 
+Also here: ``coupled_single_mode``, the single-mode coupled model of
+Rathje & Bray (2000), by RK4 with located events (not exact; see there).
+
 Used by tests/test_sliding_block_reference.py (the closed forms it is
 checked against are derived there).
 """
@@ -129,6 +132,10 @@ def _slide(block, a0, b, h):
     returns the tau reached and whether v reached 0 there."""
     s, v0 = block.s, block.v
     c = -a0 - s * block.yields[s]
+    if v0 == 0.0 and s * c < 0.0:
+        # a slide from rest starts where a_g crosses the yield: c = 0 but
+        # for rounding, which must not stop it at once
+        c = 0.0
     stop = _first_positive_root(-s * b / 2.0, s * c, max(s * v0, 0.0))
     stopped = stop is not None and stop <= h
     tau = stop if stopped else h
@@ -217,3 +224,113 @@ def newmark(t, a_g, a_y, a_y_neg=None, mass=1.0):
     rows = np.array(block.rows)
     return Sliding(rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3], rows[:, 4],
                    block.events)
+
+
+# The single-mode coupled model (Rathje & Bray 2000, after Chopra & Zhang
+# 1991): a flexible column in its first mode, modal coordinate q (the
+# column's displacement relative to its base is phi(y) q), on a base that
+# slides by s on the plane. With m the total mass, L = int phi dm,
+# M = int phi^2 dm, gamma = L / M (participation), kappa = L / m:
+#
+#   stuck:   q'' + 2 xi w q' + w^2 q = -gamma a_g,   s' = 0,
+#            the base force asks for d = a_g + kappa q'' (per unit mass),
+#            allowed while -a_y_neg <= d <= a_y
+#   sliding: q'' + 2 xi w q' + w^2 q = -gamma (a_g + s''),
+#            a_g + s'' = -kappa q'' - sgn(s') Y   (the base's equilibrium), so
+#            q'' (1 - gamma kappa) = gamma sgn(s') Y - 2 xi w q' - w^2 q.
+#
+# gamma kappa = L^2 / (m M) < 1 (Cauchy-Schwarz). A uniform shear column
+# (phi = sin(pi y / 2H)): gamma = 4 / pi, kappa = 2 / pi. Integrated by
+# RK4 on sub-steps of each sample interval, the stick/slip events found by
+# bisection inside a sub-step; a reference for comparisons, not exact.
+
+UNIFORM_SHEAR_COLUMN = (4.0 / math.pi, 2.0 / math.pi)
+
+
+class _Column:
+    """The coupled model's right-hand sides and event functions."""
+
+    def __init__(self, omega, xi, a_y, a_y_neg, gamma, kappa):
+        self.w, self.xi, self.gamma, self.kappa = omega, xi, gamma, kappa
+        self.yields = {-1: a_y, 1: a_y_neg}
+
+    def q_acc(self, mode, ag, q, qd):
+        spring = 2.0 * self.xi * self.w * qd + self.w ** 2 * q
+        if mode == 0:
+            return -self.gamma * ag - spring
+        return (self.gamma * mode * self.yields[mode] - spring) / (1.0 - self.gamma * self.kappa)
+
+    def rhs(self, mode, ag, y):
+        q, qd, _, sd = y
+        qdd = self.q_acc(mode, ag, q, qd)
+        sdd = 0.0 if mode == 0 else -ag - self.kappa * qdd - mode * self.yields[mode]
+        return (qd, qdd, sd, sdd)
+
+    def new_mode(self, ag, y):
+        """Stick, or the slide the base force starts, at rest on the plane."""
+        d = ag + self.kappa * self.q_acc(0, ag, y[0], y[1])
+        return -1 if d > self.yields[-1] else 1 if d < -self.yields[1] else 0
+
+    def leaves(self, mode, ag, y):
+        """Whether the state y (at acceleration ag) has left the mode."""
+        return self.new_mode(ag, y) != 0 if mode == 0 else mode * y[3] <= 0.0
+
+
+def _rk4(column, mode, y, t0, h, a_of):
+    k1 = column.rhs(mode, a_of(t0), y)
+    k2 = column.rhs(mode, a_of(t0 + h / 2), [a + h / 2 * b for a, b in zip(y, k1)])
+    k3 = column.rhs(mode, a_of(t0 + h / 2), [a + h / 2 * b for a, b in zip(y, k2)])
+    k4 = column.rhs(mode, a_of(t0 + h), [a + h * b for a, b in zip(y, k3)])
+    return [a + h / 6 * (b + 2 * c + 2 * d + e) for a, b, c, d, e in zip(y, k1, k2, k3, k4)]
+
+
+def _step_to_event(column, mode, y, t0, h, a_of):
+    """One sub-step, cut at the first event (bisection): (h done, y, event?)."""
+    y1 = _rk4(column, mode, y, t0, h, a_of)
+    if not column.leaves(mode, a_of(t0 + h), y1):
+        return h, y1, False
+    lo, hi = 0.0, h
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        if column.leaves(mode, a_of(t0 + mid), _rk4(column, mode, y, t0, mid, a_of)):
+            hi = mid
+        else:
+            lo = mid
+    return hi, _rk4(column, mode, y, t0, hi, a_of), True
+
+
+def coupled_single_mode(t, a_g, a_y, omega, xi=0.0, a_y_neg=None,
+                        modal=UNIFORM_SHEAR_COLUMN, substeps=4, steps_per_radian=10):
+    """The coupled sliding of a column's first mode (circular frequency
+    omega, damping ratio xi, modal = (gamma, kappa)) on a Coulomb base
+    under the piecewise-linear record (t, a_g), from rest. Returns times,
+    sliding displacement s, its velocity, the modal coordinate q and the
+    events; s is the permanent displacement once the record ends in a rest
+    long enough for the base to stop. Sub-steps: at least ``substeps`` per
+    sample interval and ``steps_per_radian`` per radian of the sliding
+    mode's frequency omega / sqrt(1 - gamma kappa)."""
+    t, a_g = np.asarray(t, float), np.asarray(a_g, float)
+    column = _Column(omega, xi, a_y, a_y if a_y_neg is None else a_y_neg, *modal)
+    max_step = math.sqrt(1.0 - modal[0] * modal[1]) / (omega * steps_per_radian)
+    y, mode, rows, events = [0.0, 0.0, 0.0, 0.0], 0, [], []
+    for k in range(len(t) - 1):
+        h_all = t[k + 1] - t[k]
+        if h_all <= 0.0:
+            continue
+        b = (a_g[k + 1] - a_g[k]) / h_all
+
+        def a_of(time, k=k, b=b):
+            return a_g[k] + b * (time - t[k])
+        now, h = t[k], min(h_all / substeps, max_step)
+        if k == 0:
+            mode = column.new_mode(a_of(now), y)
+        while now < t[k + 1] - 1e-12 * h_all:
+            done, y, event = _step_to_event(column, mode, y, now, min(h, t[k + 1] - now), a_of)
+            now += done
+            if event:
+                y[3] = 0.0 if mode != 0 else y[3]
+                mode = column.new_mode(a_of(now), y)
+                events.append((now, {0: "stick", -1: "slip-", 1: "slip+"}[mode]))
+            rows.append((now, y[2], y[3], y[0]))
+    rows = np.array([(t[0], 0.0, 0.0, 0.0)] + rows)
+    return rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3], events

@@ -263,5 +263,46 @@ def test_random_records_agree_with_a_fine_explicit_peer(seed, a_y, a_y_neg):
     t, a = np.append(t, t[-1] + 10.0), np.append(a, 0.0)   # a rest: the run-out
     r = sb.newmark(t, a, a_y, a_y_neg=a_y_neg)
     assert len(r.events) > 6
+    assert np.all(np.diff([te for te, _ in r.events]) > 0.0)   # no spurious stop at a start
     peer = explicit_stick_slip(t, a, a_y, a_y_neg, substeps=400)
     assert r.permanent == pytest.approx(peer, rel=2e-3)
+
+
+GAMMA, KAPPA = sb.UNIFORM_SHEAR_COLUMN
+
+
+def test_coupled_step_slides_only_past_the_first_modes_amplified_yield():
+    """A step a_g = A from rest, xi = 0: q = -(gamma A / w^2)(1 - cos w t), so
+    the base asks d = a_g + kappa q'' = A (1 - gamma kappa cos w t), largest
+    A (1 + gamma kappa) at w t = pi: the base slides iff
+    A > a_y / (1 + gamma kappa), first at cos w t* = (A - a_y) / (gamma kappa A)."""
+    a_y, w = 1.0, 10.0
+    threshold = a_y / (1.0 + GAMMA * KAPPA)
+    assert sb.coupled_single_mode([0.0, 2.0], [0.999 * threshold] * 2, a_y, w)[4] == []
+    for A in (1.01 * threshold, 0.9):
+        events = sb.coupled_single_mode([0.0, 2.0], [A, A], a_y, w)[4]
+        t_star = math.acos((A - a_y) / (GAMMA * KAPPA * A)) / w
+        assert events[0] == (pytest.approx(t_star, abs=1e-7), "slip-")
+
+
+def test_coupled_model_without_coupling_is_the_rigid_block():
+    """kappa = 0: the column puts no force on the base, s'' = -a_g - sgn(s') a_y
+    is cubic in t, which RK4 integrates exactly: only the events' bisection
+    is left."""
+    t, a = random_record(7, n=60, dt=0.05, peak=3.0)
+    t, a = np.append(t, t[-1] + 2.0), np.append(a, 0.0)
+    rigid = sb.newmark(t, a, 1.0, a_y_neg=0.7)
+    coupled = sb.coupled_single_mode(t, a, 1.0, 5.0, a_y_neg=0.7, modal=(GAMMA, 0.0))
+    assert [e for _, e in coupled[4]] == [e for _, e in rigid.events]
+    assert coupled[1][-1] == pytest.approx(rigid.permanent, rel=1e-9)
+
+
+def test_coupled_model_tends_to_the_rigid_block_as_the_column_stiffens():
+    """One sine cycle, two-way: the error falls about as 1 / omega (measured)."""
+    A, wg = 3.0, 4.0
+    t = np.linspace(0.0, 2 * math.pi / wg, 129)
+    t, a = np.append(t, t[-1] + 2.0), np.append(A * np.sin(wg * t), 0.0)
+    rigid = sb.newmark(t, a, 1.0).permanent
+    errors = [abs(sb.coupled_single_mode(t, a, 1.0, w)[1][-1] - rigid) / abs(rigid)
+              for w in (100.0, 400.0)]
+    assert errors[1] < errors[0] / 2.0 and errors[1] < 0.03, errors
