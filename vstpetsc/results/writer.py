@@ -109,8 +109,8 @@ class EventRows:
     after the block's flush, as :class:`Completed`) for readers of a running
     file."""
 
-    def __init__(self, f):
-        names = [name for name, _ in _series_of(f) if layout.is_events(name)]
+    def __init__(self, f, growing):
+        names = [name for name, _ in growing if layout.is_events(name)]
         self.ids = {name: f[name].id for name in names}
         self.n = {name: f[name].shape[0] for name in names}
         self.pending = {}
@@ -223,8 +223,10 @@ class ResultWriter:
         self.flushed_slab = None
         self.last_flush = time.monotonic()
         self.broken = False
-        self.gauges = GaugeStream.of(f, _gauge_names(f))
-        self.events = EventRows(f)
+        # the file's growing datasets, walked once (a walk costs ~3 ms)
+        self.growing = _series_of(f)
+        self.gauges = GaugeStream.of(f, [n for n, _ in self.growing if layout.every_slab(n)])
+        self.events = EventRows(f, self.growing)
         self.completed = Completed(f)
 
     @classmethod
@@ -298,7 +300,7 @@ class ResultWriter:
         """(buffers {series name: array}, i): the caller fills row i of every
         buffer (the next kept row)."""
         if not self.series:
-            self.series, self.buffers, self.spare, self.capacity = _track(self.f)
+            self.series, self.buffers, self.spare, self.capacity = _track(self.growing)
         i = self.pending
         self.pending = i + 1
         return self.buffers, i
@@ -416,15 +418,16 @@ class ResultWriter:
             raise error
 
 
-def _track(f):
+def _track(growing):
     """(series {name: (low-level handle, row shape, (chunk rows, chunk
     bytes))}, two sets of buffers {name: array}, rows a buffer holds) of
-    the series of ``f`` kept with the rows (h5py's high-level resize and
+    the series kept with the rows among ``growing`` (the (name, dataset)
+    of :func:`_series_of`) (h5py's high-level resize and
     item assignment cost ~200 us a call); the second set is None when a
     buffer holds fewer than THREAD_ROWS rows (huge rows: memory first,
     and blocks are written at once)."""
     series, buffers, capacity = {}, {}, None
-    for name, ds in _series_of(f):
+    for name, ds in growing:
         if layout.every_slab(name) or layout.is_events(name):
             continue
         tail = ds.shape[1:]
@@ -456,10 +459,6 @@ def _append(dsid, n, rows):
     fspace = dsid.get_space()
     fspace.select_hyperslab((n,) + (0,) * len(tail), (k,) + tail)
     dsid.write(h5py.h5s.create_simple(rows.shape), fspace, rows)
-
-
-def _gauge_names(f):
-    return [name for name, _ in _series_of(f) if layout.every_slab(name)]
 
 
 def _series_of(f):
