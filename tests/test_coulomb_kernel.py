@@ -169,3 +169,26 @@ def test_stretch_is_contact_motion_less_slip(rng):
 def test_open_gap_no_force_and_no_stretch():
     got = kernel(0.0, SY, -SY, *penalty_normal(1e-6, -1e-9, 0.0, 1e9))
     assert got == (0.0,) * 9
+
+
+@pytest.mark.parametrize("s1, s2", [(0.0, 0.0), (0.0, SY), (SY, SY), (-2.0 * SY, 0.0)])
+def test_degenerate_motions_keep_the_identities(s1, s2):
+    """No motion, a motion that starts or ends at rest, a constant one,
+    while the gap opens: the stretch stays inside a limit that shrinks to
+    zero, and nothing dissipates energy it was not given."""
+    normal, pieces = penalty_normal(*gap_coefficients(-N0 / 1e9, -3e-5 / DT, -3e-5 / DT, DT), 1e9)
+    for e_n in (0.0, MU * normal[0] / KT, -MU * normal[0] / KT):
+        got = kernel(e_n, s1, s2, normal, pieces)
+        f1, f2, e_end, _ = return_mapping(e_n, s1, s2, normal, pieces)
+        work = -(s1 * got.f1 + s2 * got.f2) - 0.5 * KT * (got.stretch ** 2 - e_n ** 2)
+        assert got.dissipation >= 0.0 and got.stretch == 0.0
+        assert got.dissipation == pytest.approx(work, abs=1e-12 * MU * N0 * EY)
+        assert abs(got.f1 - f1) + abs(got.f2 - f2) <= 1e-6 * DT * MU * N0
+
+
+def test_limit_shrinking_onto_a_still_spring_dissipates_nothing_negative():
+    """At rest with e = 0 while the gap opens: a rounding-negative N just
+    inside the opening root once gave a dissipation of -1e-32."""
+    got = kernel(0.0, 0.0, 0.0, (6153.3304639988855, -46793.024621636374, 19786.197931696963),
+                 [(0.0, 0.1397604442188071)])
+    assert got.dissipation >= 0.0 and got.f1 == got.f2 == 0.0

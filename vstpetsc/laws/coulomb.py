@@ -102,7 +102,9 @@ class _Slab:
                             + mu * (abs(self.n1) + 2.0 * abs(self.n2)))
 
     def normal(self, t):
-        return self.n0 + t * (self.n1 + t * self.n2)
+        """N(t) on a piece (never below 0: a root at a piece's edge may
+        round to a slightly negative value just inside it)."""
+        return max(0.0, self.n0 + t * (self.n1 + t * self.n2))
 
     def dnormal(self, t):
         return self.n1 + 2.0 * t * self.n2
