@@ -53,8 +53,10 @@ contact (relative motion while the gap is open is not slip), and the
 dissipation D = int mu N |dp/dt| dt >= 0.  Since s = s1 T_1 + s2 T_2,
 D = -(s1 F_1 + s2 F_2) - k_t (e_end^2 - e_n^2) / 2 (work identity) and
 e_end - e_n = dt int_pieces s - slip (kinematics).  A start stretch beyond
-the limit at theta = 0 (rounding of the previous slab's end) is projected
-onto it.
+the limit at theta = 0 is projected onto it: rounding of the previous
+slab's end with the power penalty (N continuous in time); with the seed's
+slab-mean N, which jumps between slabs, the projection releases
+k_t (e_n^2 - e^2) / 2 outside D, which whoever calls this must book.
 """
 
 from typing import NamedTuple
