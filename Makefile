@@ -85,6 +85,7 @@ accuracy: install
 	$(PY) bench/impact_study.py mesh
 	$(PY) bench/impact_study.py moved
 	$(PY) bench/impact_study.py wave
+	$(PY) bench/impact_study.py cost
 	$(PY) bench/wave_study.py wave
 	$(PY) bench/wave_study.py site
 	$(PY) bench/wave_study.py rigid

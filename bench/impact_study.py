@@ -9,7 +9,7 @@ Standing wave: the clamped-free steel bar started in its first mode (nodal
 values exact), the tip displacement's relative L2 error over two periods
 against the continuous solution.
 
-    .venv/bin/python bench/impact_study.py [impact|mesh|moved|wave]
+    .venv/bin/python bench/impact_study.py [impact|mesh|moved|wave|cost]
 
 ``moved``: the defaults (power penalty 0.5 E A / h, averaged mass) and the
 same with ``redistribute_mass``, against the mesh and c dt/h.
@@ -56,6 +56,31 @@ def bar_wall(n, courant, mass, formulation, beta, folder, moved=False):
             (energy - e0) / e0)
 
 
+def slab_costs(variant, courant, folder, n=100, reps=5):
+    """(mean and largest Newton iterations per contact slab, median wall
+    time of a contact slab and of a free slab in s, the best of ``reps``
+    runs) of bar-wall: the defaults, "moved" (the contact node's mass
+    moved inward) or "seed" (the seed penalty with the consistent mass)."""
+    dt = courant * L / n / C
+    pair = {"pair": ["bar", "wall"], "wall": L + GAP}
+    body = {"name": "bar", "x": [0.0, L], "elements": n, "E": E, "rho": RHO, "v0": V0}
+    if variant == "seed":
+        pair["formulation"], body["mass"] = "seed", "consistent"
+    elif variant == "moved":
+        pair["redistribute_mass"] = True
+    doc = {"time": {"dt": dt, "end": GAP / V0 + 2.5 * L / C}, "output": {"every": 1},
+           "body": [body], "contact": [pair]}
+    contact = free = np.inf
+    for _ in range(reps):
+        r = vstpetsc.run(vstpetsc.Case.from_dict(doc), output=os.path.join(folder, "c.h5"),
+                         quiet=True, out=io.StringIO())
+        newton = r.solver["newton_iterations"][1:]
+        on = r.contact(0).impulse[1:] > 0
+        wall = np.diff(r.solver["wall_time"][:])
+        contact, free = min(contact, np.median(wall[on])), min(free, np.median(wall[~on]))
+    return newton[on].mean(), int(newton.max()), contact, free
+
+
 def standing_wave(n, mass, courant, folder):
     """The tip's relative L2 error over two periods of the first mode."""
     omega = np.pi * C / (2.0 * L)
@@ -81,6 +106,14 @@ def main(part):
                         error = standing_wave(n, mass, courant, folder)
                         print(f"wave {mass:10s} elements {n:3d} c dt/h={courant:6.4f} "
                               f"tip L2 {error:.2e}", flush=True)
+            return
+        if part == "cost":
+            for variant in ("defaults", "moved", "seed"):
+                for courant in (1.0, 0.5):
+                    mean, most, contact, free = slab_costs(variant, courant, folder)
+                    print(f"{variant:8s} c dt/h={courant:4.2f} Newton per contact slab "
+                          f"{mean:.2f} (max {most}), contact slab {1e6 * contact:.0f} us, "
+                          f"free slab {1e6 * free:.0f} us", flush=True)
             return
         if part == "moved":          # the defaults, and with the contact node's mass moved
             for moved in (False, True):
