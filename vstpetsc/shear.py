@@ -30,10 +30,6 @@ class ShearModulus:
     def __call__(self, x):
         return self.rho(x) * self.Vs(x) ** 2
 
-    @property
-    def is_constant(self):
-        return self.rho.is_constant and self.Vs.is_constant
-
     def __eq__(self, other):
         return isinstance(other, ShearModulus) and (self.rho, self.Vs) == (other.rho, other.Vs)
 
