@@ -20,6 +20,7 @@ from vstpetsc.static import static_state
 from vstpetsc.results import layout
 from vstpetsc.results.files import foreign, path_problem, same_file
 from vstpetsc.results.reader import Result
+from vstpetsc.shear import refuse_unimplemented
 
 
 @dataclass
@@ -63,6 +64,9 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
 
     Raises
     ------
+    vstpetsc.CaseError
+        The case uses the shear component or friction, which no solver
+        acts on yet (issue 27; nothing written).
     vstpetsc.InputError
         An option or the output cannot be used (nothing written).
     vstpetsc.SolveFailed
@@ -75,6 +79,7 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
     from vstpetsc import petsc
     from vstpetsc.petsc.options import scoped, translate
 
+    refuse_unimplemented(case)
     output = case.output_file if output is None else str(output)
     check_output(case, output)
     petsc.initialize(translate(options))

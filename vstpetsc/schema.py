@@ -8,7 +8,7 @@ registries of :mod:`vstpetsc.laws`.  Nothing here imports PETSc.
 
 from dataclasses import dataclass, field
 
-from vstpetsc import laws
+from vstpetsc import laws, shear
 from vstpetsc.checker import MISSING, Checker, is_number, show
 from vstpetsc.errors import CaseError
 from vstpetsc.history import History
@@ -19,7 +19,7 @@ UNITS = {"length": "m", "time": "s", "mass": "kg"}
 TOP = ("time", "output", "body", "contact", "bc", "units", "gravity", "gauge", "soil")
 GAUGE_KEYS = ("name", "body", "x")
 BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0", "damping", "foundation",
-             "mass")
+             "mass") + shear.BODY_KEYS
 # the element mass matrix rho A h / 12 [[6 - o, o], [o, 6 - o]] by its off-diagonal o
 MASSES = {"consistent": 2.0, "averaged": 1.0, "lumped": 0.0}
 INITIAL = ("rest", "static")
@@ -32,7 +32,10 @@ DT_RANGE = (1e-150, 1e150)  # dt^2 must neither underflow nor overflow
 class Body:
     """A [[body]]: E, rho and area are profiles along x (History of x;
     constant for a number), damping = (alpha, beta) of Rayleigh's
-    C = alpha M + beta K, foundation = (stiffness, damping) per length."""
+    C = alpha M + beta K, foundation = (stiffness, damping) per length.
+    G, v0_shear, u0_shear: the shear component (issue 27; G a profile of x,
+    :class:`vstpetsc.shear.ShearModulus` when Vs was given), all None for a
+    body without one."""
 
     name: str
     x: tuple
@@ -45,6 +48,13 @@ class Body:
     damping: tuple = (0.0, 0.0)
     foundation: tuple = (0.0, 0.0)
     mass: str = "consistent"
+    G: object = None
+    v0_shear: History | None = None
+    u0_shear: History | None = None
+
+    @property
+    def has_shear(self):
+        return self.G is not None
 
 
 @dataclass
@@ -67,23 +77,29 @@ class GravitySpec:
 @dataclass
 class ContactSpec:
     """A [[contact]]: ``left`` body's right end against ``right`` body's
-    left end; one of them None for a rigid wall at ``wall``."""
+    left end; one of them None for a rigid wall at ``wall``.  ``friction``:
+    Coulomb's mu (None: no shear resistance); ``wall_shear_velocity``: the
+    wall's shear velocity history (a wall pair with friction, else None)."""
 
     left: int | None
     right: int | None
     formulation: str
     params: dict
     wall: float | None = None
+    friction: float | None = None
+    wall_shear_velocity: History | None = None
 
 
 @dataclass
 class BoundarySpec:
-    """A [[bc]] at an ``end`` of body number ``body``."""
+    """A [[bc]] at an ``end`` of body number ``body``, acting on its
+    ``component`` ("axial" or "shear") motion."""
 
     body: int
     end: str
     type: str
     params: dict
+    component: str = "axial"
 
 
 def read(doc, folder=None):
@@ -97,7 +113,7 @@ def read(doc, folder=None):
     parts["units"] = read_units(chk, chk.table(doc, "units", "units", required=False))
     bodies, names = read_bodies(chk, doc)
     contacts = read_contacts(chk, chk.tables(doc, "contact"), bodies, names)
-    bcs = read_bcs(chk, chk.tables(doc, "bc"), names, contacts)
+    bcs = read_bcs(chk, chk.tables(doc, "bc"), bodies, names, contacts)
     parts["gravity"] = read_gravity(chk, chk.table(doc, "gravity", "gravity", required=False),
                                     bodies)
     parts["gauges"] = read_gauges(chk, chk.tables(doc, "gauge"), bodies, names)
@@ -251,7 +267,11 @@ def _body(chk, tbl, i, names):
               _pair_of(chk, tbl, "foundation", where, ("stiffness", "damping")),
               chk.string(tbl, "mass", where, required=False, default="averaged",
                          choices=tuple(MASSES)))
-    return name, None if any(f is None for f in fields) else Body(*fields)
+    sheared = shear.read_body(chk, tbl, where, rho,
+                              lambda key: _material(chk, tbl, where, key, x, None))
+    if sheared is None or any(f is None for f in fields):
+        return name, None
+    return name, Body(*fields, *sheared)
 
 
 def _material(chk, tbl, where, key, x, default):
@@ -300,13 +320,18 @@ def read_contacts(chk, tables, bodies, names):
         form = chk.string(tbl, "formulation", where, required=False,
                           default=laws.penalty.DEFAULT_FORMULATION,
                           choices=tuple(laws.CONTACT))
-        allowed = ("pair", "formulation", "wall") + (laws.CONTACT[form].KEYS if form else ())
+        allowed = ("pair", "formulation", "wall") + (laws.CONTACT[form].KEYS if form else ()) \
+            + shear.CONTACT_KEYS
         chk.unknown(tbl, allowed, where)
         params = laws.CONTACT[form].read(chk, tbl, where) if form else None
+        friction = shear.read_friction(chk, tbl, where, form)
         pair = _pair(chk, tbl, where, bodies, names)
-        if pair is None or params is None:
+        if pair is None or params is None or friction is None:
             continue
         left, right, wall = pair
+        friction = shear.check_pair(chk, where, bodies, left, right, friction)
+        if friction is None:
+            continue
         ends = [(left, "right"), (right, "left")]
         dup = [(e, ends_used[e]) for e in ends if e[0] is not None and e in ends_used]
         if dup:
@@ -317,7 +342,7 @@ def read_contacts(chk, tables, bodies, names):
         ends_used.update({e: i for e in ends if e[0] is not None})
         if _penetrates(chk, where, bodies, left, right, wall):
             continue
-        contacts.append(ContactSpec(left, right, form, params, wall))
+        contacts.append(ContactSpec(left, right, form, params, wall, *friction))
     return contacts
 
 
@@ -405,7 +430,7 @@ def _checked_gap(chk, where, gap, pair):
     return pair
 
 
-def read_bcs(chk, tables, names, contacts):
+def read_bcs(chk, tables, bodies, names, contacts):
     contact_ends = {}
     for k, c in enumerate(contacts):
         contact_ends[(c.left, "right")] = k
@@ -416,22 +441,45 @@ def read_bcs(chk, tables, names, contacts):
         name = chk.string(tbl, "body", where)
         end = chk.string(tbl, "end", where, choices=ENDS)
         typ = chk.string(tbl, "type", where, choices=tuple(laws.BOUNDARY))
+        component = chk.string(tbl, "component", where, required=False, default="axial",
+                               choices=shear.COMPONENTS)
         law = laws.BOUNDARY.get(typ)
-        chk.unknown(tbl, ("body", "end", "type") + (law.KEYS if law else ()), where)
+        chk.unknown(tbl, ("body", "end", "type", "component") + (law.KEYS if law else ()), where)
         params = law.read(chk, tbl, where) if law else None
         if name is not None and name not in names:
             chk.add(f"{where}.body", f"unknown body {name!r} "
                     f"(bodies: {', '.join(names) or 'none'})")
             continue
-        if None in (name, end, typ, params):
+        if None in (name, end, typ, params, component) or bodies[names[name]] is None:
             continue
-        key = (names[name], end)
-        if key in seen:
-            chk.add(f"{where}.end", f"the {end} end of {name!r} already has bc[{seen[key]}]")
-        elif key in contact_ends:
-            chk.add(f"{where}.end", f"the {end} end of {name!r} is in "
-                    f"contact[{contact_ends[key]}]; an end takes a bc or a contact, not both")
-        else:
-            seen[key] = i
-            bcs.append(BoundarySpec(names[name], end, typ, params))
+        key = (names[name], end, component)
+        if _end_taken(chk, where, key, bodies, seen, contacts, contact_ends):
+            continue
+        seen[key] = i
+        bcs.append(BoundarySpec(names[name], end, typ, params, component))
     return bcs
+
+
+def _end_taken(chk, where, key, bodies, seen, contacts, contact_ends):
+    """Whether the (body, end, component) of a bc cannot take it (reported):
+    an end takes one bc per component; an axial bc or, with friction, a
+    shear bc, not at a contact; a shear bc only on a body with a shear
+    component."""
+    body, end, component = key
+    name = bodies[body].name
+    pair = contact_ends.get((body, end))
+    shear_bc = component == "shear"
+    if shear_bc and not bodies[body].has_shear:
+        chk.add(f"{where}.component", shear.no_shear_message(name))
+    elif key in seen:
+        chk.add(f"{where}.end", f"the {end} end of {name!r} already has "
+                f"{'a shear bc, ' if shear_bc else ''}bc[{seen[key]}]")
+    elif pair is not None and not shear_bc:
+        chk.add(f"{where}.end", f"the {end} end of {name!r} is in "
+                f"contact[{pair}]; an end takes a bc or a contact, not both")
+    elif pair is not None and contacts[pair].friction is not None:
+        chk.add(f"{where}.end", f"the {end} end of {name!r} is in contact[{pair}] with "
+                "friction, which sets its shear; it takes no shear bc")
+    else:
+        return False
+    return True

@@ -24,6 +24,9 @@ class Absorbing(EndLaw):
         super().__init__(spec, index, case, mesh)
         e = self.element
         given = spec.params["impedance"]
+        # rho c A of the end element; built on the shear field (issue 27:
+        # its mesh has E := G), the same line gives a shear absorbing end's
+        # default rho Vs A, since sqrt(G rho) = rho Vs
         self.impedance = given if given is not None else \
             float(np.sqrt(mesh.E[e] * mesh.rho[e]) * mesh.A[e])
         self.incident = spec.params["incident"]

@@ -1,0 +1,133 @@
+"""The case keys of the shear component and of Coulomb friction (issue 27,
+docs/case-file.md): a body's ``G`` or ``Vs``, ``v0_shear`` and ``u0_shear``;
+a bc's ``component``; a contact's ``friction`` and ``wall_shear_velocity``.
+
+Validation only: until the shear solver lands, :func:`refuse_unimplemented`
+stops a case that uses any of them before it runs, so nothing is silently
+ignored.  Nothing here imports PETSc.
+"""
+
+from vstpetsc.checker import MAGNITUDE
+from vstpetsc.errors import CaseError
+from vstpetsc.history import History
+
+BODY_KEYS = ("G", "Vs", "v0_shear", "u0_shear")
+CONTACT_KEYS = ("friction", "wall_shear_velocity")
+COMPONENTS = ("axial", "shear")
+FRICTION_FORMULATIONS = ("seed", "power")
+NO_SHEAR = (None, None, None)
+ISSUE = "the shear component is not implemented yet (issue 27)"
+
+
+class ShearModulus:
+    """G(x) = rho(x) Vs(x)^2 of a body that gives its shear-wave speed,
+    evaluated where the mesh asks (element midpoints, as E): the product of
+    two tables is not a table, so it is not made one."""
+
+    def __init__(self, rho, Vs):
+        self.rho, self.Vs = rho, Vs
+
+    def __call__(self, x):
+        return self.rho(x) * self.Vs(x) ** 2
+
+    def __eq__(self, other):
+        return isinstance(other, ShearModulus) and (self.rho, self.Vs) == (other.rho, other.Vs)
+
+    def __repr__(self):
+        return f"ShearModulus(rho={self.rho!r}, Vs={self.Vs!r})"
+
+
+def no_shear_message(name):
+    return f"body {name!r} has no shear component (give it G or Vs)"
+
+
+def read_body(chk, tbl, where, rho, material):
+    """(G, v0_shear, u0_shear) of a [[body]] (all None without G or Vs), or
+    None after reporting; ``material(key)`` reads a positive profile that
+    covers the body (as E)."""
+    given = [k for k in ("G", "Vs") if k in tbl]
+    if len(given) == 2:
+        chk.add(f"{where}.Vs", "give G or Vs (G = rho Vs^2), not both")
+        return None
+    if not given:
+        extra = [k for k in ("v0_shear", "u0_shear") if k in tbl]
+        for key in extra:
+            chk.add(f"{where}.{key}", "only for a body with a shear component (give G or Vs)")
+        return None if extra else NO_SHEAR
+    profile = material(given[0])
+    fields = (_modulus(chk, where, given[0], profile, rho),
+              chk.history(tbl, "v0_shear", where, "x"), chk.history(tbl, "u0_shear", where, "x"))
+    return None if None in fields else fields
+
+
+def _modulus(chk, where, key, profile, rho):
+    """G itself, or rho Vs^2 when its bounds keep it a normal double (as
+    every modulus of a case: squares and products stay finite)."""
+    if key == "G":
+        return profile
+    if profile is None or rho is None:
+        return None
+    high, low = rho.f.max() * profile.f.max() ** 2, rho.f.min() * profile.f.min() ** 2
+    if not MAGNITUDE[0] <= low <= high <= MAGNITUDE[1]:
+        chk.add(f"{where}.Vs", f"G = rho Vs^2 must lie in {MAGNITUDE[0]:g} .. "
+                f"{MAGNITUDE[1]:g}, got values up to {high:g} and down to {low:g}")
+        return None
+    return ShearModulus(rho, profile)
+
+
+def read_friction(chk, tbl, where, formulation):
+    """(friction or None, wall_shear_velocity or None) of a [[contact]], or
+    None after reporting."""
+    mu = chk.number(tbl, "friction", where, required=False, minimum=0.0)
+    ok = mu is not None or "friction" not in tbl
+    if mu is not None and formulation not in FRICTION_FORMULATIONS:
+        chk.add(f"{where}.friction", f"not available with formulation {formulation!r} "
+                f"(only {' and '.join(map(repr, FRICTION_FORMULATIONS))})")
+        ok = False
+    wall_v = None
+    if "wall_shear_velocity" in tbl:
+        wall_v = chk.history(tbl, "wall_shear_velocity", where, "t", records=True)
+        ok = ok and wall_v is not None
+        if "friction" not in tbl:
+            chk.add(f"{where}.wall_shear_velocity", "only for a pair with friction")
+            ok = False
+    return (mu, wall_v) if ok else None
+
+
+def check_pair(chk, where, bodies, left, right, friction):
+    """``friction`` (mu, wall velocity) of a resolved pair after checking its
+    bodies; a wall pair with friction gets the wall velocity 0 by default;
+    None after reporting."""
+    mu, wall_v = friction
+    wall = left is None or right is None
+    if wall_v is not None and not wall:
+        chk.add(f"{where}.wall_shear_velocity", "only for a pair with \"wall\"")
+        return None
+    if mu is None:
+        return friction
+    bare = [bodies[b].name for b in (left, right) if b is not None and not bodies[b].has_shear]
+    if bare:
+        chk.add(f"{where}.friction", no_shear_message(bare[0]))
+        return None
+    if wall and wall_v is None:
+        wall_v = History()
+    return mu, wall_v
+
+
+def uses(case):
+    """The keys through which ``case`` uses the shear component or friction
+    (the first key of each table that does)."""
+    used = [f"body[{i}] ({b.name}).{'Vs' if isinstance(b.G, ShearModulus) else 'G'}"
+            for i, b in enumerate(case.bodies) if b.has_shear]
+    used += [f"contact[{k}].friction" for k, c in enumerate(case.contacts)
+             if c.friction is not None]
+    used += [f"bc[{k}].component" for k, b in enumerate(case.bcs) if b.component == "shear"]
+    return used
+
+
+def refuse_unimplemented(case):
+    """CaseError (one line, the first key) if ``case`` uses the shear
+    component or friction, which no solver acts on yet."""
+    used = uses(case)
+    if used:
+        raise CaseError([f"{used[0]}: {ISSUE}"])
