@@ -30,21 +30,27 @@ C = np.sqrt(E / RHO)
 Z = RHO * C
 
 
+def bar_wall_case(n, courant, pair=(), body=()):
+    """The bar-wall Case at n elements and c dt/h = ``courant``, with the
+    extra keys ``pair`` of its [[contact]] and ``body`` of its [[body]]."""
+    dt = courant * L / n / C
+    return vstpetsc.Case.from_dict({
+        "time": {"dt": dt, "end": GAP / V0 + 2.5 * L / C}, "output": {"every": 1},
+        "body": [{"name": "bar", "x": [0.0, L], "elements": n, "E": E, "rho": RHO, "v0": V0,
+                  **dict(body)}],
+        "contact": [{"pair": ["bar", "wall"], "wall": L + GAP, **dict(pair)}]})
+
+
 def bar_wall(n, courant, mass, formulation, beta, folder, moved=False):
     """(peak, plateau, rebound error, energy error) of one variant
     (``moved``: the contact node's mass moved inward)."""
-    dt = courant * L / n / C
-    pair = {"pair": ["bar", "wall"], "wall": L + GAP, "formulation": formulation}
+    pair = {"formulation": formulation}
     if moved:
         pair["redistribute_mass"] = True
     if beta is not None:
         k = beta * E * n / L                      # beta E A / h
-        pair["penalty"] = k if formulation == "power" else 2.0 * k / dt
-    doc = {"time": {"dt": dt, "end": GAP / V0 + 2.5 * L / C}, "output": {"every": 1},
-           "body": [{"name": "bar", "x": [0.0, L], "elements": n, "E": E, "rho": RHO,
-                     "v0": V0, "mass": mass}],
-           "contact": [pair]}
-    case = vstpetsc.Case.from_dict(doc)
+        pair["penalty"] = k if formulation == "power" else 2.0 * k / (courant * L / n / C)
+    case = bar_wall_case(n, courant, pair, {"mass": mass})
     r = vstpetsc.run(case, output=os.path.join(folder, "r.h5"), quiet=True, out=io.StringIO())
     force = r.contact(0).force[:] / (Z * V0)
     ops = model_mod.build_model(case).ops            # the masses the run used
@@ -61,19 +67,13 @@ def slab_costs(variant, courant, folder, n=100, reps=5):
     time of a contact slab and of a free slab in s, the best of ``reps``
     runs) of bar-wall: the defaults, "moved" (the contact node's mass
     moved inward) or "seed" (the seed penalty with the consistent mass)."""
-    dt = courant * L / n / C
-    pair = {"pair": ["bar", "wall"], "wall": L + GAP}
-    body = {"name": "bar", "x": [0.0, L], "elements": n, "E": E, "rho": RHO, "v0": V0}
-    if variant == "seed":
-        pair["formulation"], body["mass"] = "seed", "consistent"
-    elif variant == "moved":
-        pair["redistribute_mass"] = True
-    doc = {"time": {"dt": dt, "end": GAP / V0 + 2.5 * L / C}, "output": {"every": 1},
-           "body": [body], "contact": [pair]}
+    pair, body = {"seed": ({"formulation": "seed"}, {"mass": "consistent"}),
+                  "moved": ({"redistribute_mass": True}, {})}.get(variant, ({}, {}))
+    case = bar_wall_case(n, courant, pair, body)
     contact = free = np.inf
     for _ in range(reps):
-        r = vstpetsc.run(vstpetsc.Case.from_dict(doc), output=os.path.join(folder, "c.h5"),
-                         quiet=True, out=io.StringIO())
+        r = vstpetsc.run(case, output=os.path.join(folder, "c.h5"), quiet=True,
+                         out=io.StringIO())
         newton = r.solver["newton_iterations"][1:]
         on = r.contact(0).impulse[1:] > 0
         wall = np.diff(r.solver["wall_time"][:])
