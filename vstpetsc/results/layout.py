@@ -74,6 +74,11 @@ def is_events(name):
     return len(parts) == 3 and parts[0] == CONTACT and parts[2] == EVENTS
 
 
+def grows(ds):
+    """Whether dataset ``ds`` grows with the run (its first axis unlimited)."""
+    return bool(ds.maxshape) and ds.maxshape[0] is None
+
+
 def every_slab(name):
     """Whether series ``name`` has a row per slab (a gauge), not per kept slab."""
     return name.startswith("gauge/")

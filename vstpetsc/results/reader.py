@@ -76,9 +76,9 @@ class Result:
             if not held(self.path):
                 break
             again = self._with_file(_outline)
-            outline, same = again, again[-1] == outline[-1]
-            if same:
-                break
+            if again[-1] == outline[-1]:
+                return again
+            outline = again
         return outline
 
     def _open(self):
@@ -269,7 +269,7 @@ def _kind(obj):
     growing along its first axis) or "dataset"."""
     if not isinstance(obj, h5py.Dataset):
         return "group"
-    if not obj.maxshape or obj.maxshape[0] is not None:
+    if not layout.grows(obj):
         return "dataset"
     return "series" if obj.ndim == 1 else "table"
 

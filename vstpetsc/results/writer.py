@@ -465,8 +465,7 @@ def _series_of(f):
     """(name, dataset) of every growing dataset of an open file."""
     found = []
     f.visititems(lambda name, obj: found.append((name, obj))
-                 if isinstance(obj, h5py.Dataset) and obj.maxshape and obj.maxshape[0] is None
-                 else None)
+                 if isinstance(obj, h5py.Dataset) and layout.grows(obj) else None)
     return found
 
 
