@@ -79,6 +79,8 @@ def compliance_delay(r, impedance):
     rises and falls with the time constant Z / k of the spring loading a
     dashpot Z."""
     a = r.contact(0).attrs
-    k = {"power": a.get("penalty"), "cushion": a.get("stiffness"),
-         "seed": 0.5 * a.get("penalty", 0.0) * r.attrs["dt"]}[a["formulation"]]
+    if a["formulation"] == "cushion":
+        k = a["stiffness"]
+    else:                    # the seed's eps dt / 2: its slab-mean force per penetration
+        k = a["penalty"] * (0.5 * r.attrs["dt"] if a["formulation"] == "seed" else 1.0)
     return 2.0 * impedance / k

@@ -22,6 +22,7 @@ BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0", "damping",
              "mass") + shear.BODY_KEYS
 # the element mass matrix rho A h / 12 [[6 - o, o], [o, 6 - o]] by its off-diagonal o
 MASSES = {"consistent": 2.0, "averaged": 1.0, "lumped": 0.0}
+DEFAULT_MASS = "averaged"
 INITIAL = ("rest", "static")
 MAX_SLABS = 1e12          # beyond any run; guards int() and memory against typos
 MAX_ELEMENTS = 10**8      # per body
@@ -47,7 +48,7 @@ class Body:
     u0: History = field(default_factory=History)
     damping: tuple = (0.0, 0.0)
     foundation: tuple = (0.0, 0.0)
-    mass: str = "consistent"
+    mass: str = DEFAULT_MASS
     G: object = None
     v0_shear: History | None = None
     u0_shear: History | None = None
@@ -265,7 +266,7 @@ def _body(chk, tbl, i, names):
               chk.history(tbl, "v0", where, "x"), chk.history(tbl, "u0", where, "x"),
               _pair_of(chk, tbl, "damping", where, ("alpha", "beta")),
               _pair_of(chk, tbl, "foundation", where, ("stiffness", "damping")),
-              chk.string(tbl, "mass", where, required=False, default="averaged",
+              chk.string(tbl, "mass", where, required=False, default=DEFAULT_MASS,
                          choices=tuple(MASSES)))
     sheared = shear.read_body(chk, tbl, where, rho,
                               lambda key: _material(chk, tbl, where, key, x, None))
