@@ -19,11 +19,11 @@ GAP = 1e-3
 
 def momentum(result, case, name):
     """The body's momentum after the last slab, sum of M v (the mass matrix
-    the run used: a contact node may hold no mass)."""
-    ops = model_mod.build_model(case).ops
-    sl = model_mod.build_model(case).mesh.nodes(0)
+    the run used: a contact node may hold little mass)."""
+    model = model_mod.build_model(case)
+    ops = model.ops
     v = np.zeros(ops.m_diag.size)
-    v[sl] = result.body(name).v[-1]
+    v[model.mesh.nodes([b.name for b in case.bodies].index(name))] = result.body(name).v[-1]
     return float(np.ones_like(v) @ model_mod.band_mult(ops.m_diag, ops.m_off, v))
 
 
