@@ -7,6 +7,14 @@ acceleration of 1 m/s^2 (about 0.1 g), differentiated into an acceleration
 sampled at 200 Hz for 16 s.  Its trapezoidal integral (what `integrate =
 true` computes) returns to rest at the end.
 
+sliding-block-ground.csv: the ground acceleration under the sliding block,
+one cycle of 3 sin(2 pi t) m/s^2, then 2 s at rest (a velocity pulse, the
+kind of near-fault motion that makes a block slide one way).
+
+dam-interface-motion.csv: the two outcrop accelerations of the dam-interface
+example, bursts of sines under a sin^2 envelope over 2 s, then rest:
+horizontal 6 sin(2 pi 2 t), vertical 14 sin(2 pi 3 t) m/s^2.
+
 uplift-base.csv: the base velocity of the uplift example, 0.5 (1 - cos(2 pi 5
 t)) m/s for two cycles, then at rest, sampled at 2 kHz (its acceleration
 0.5 w sin(w t) starts from zero).
@@ -23,33 +31,49 @@ FOLDER = os.path.join(HERE, "..", "vstpetsc", "examples")
 DT, DURATION, BAND, PEAK = 0.005, 16.0, (0.3, 12.0), 1.0
 
 
-def record(seed=20261123):
+def record(seed=20261123, duration=DURATION, peak=PEAK):
     rng = np.random.default_rng(seed)
-    t = np.arange(0.0, DURATION + DT / 2, DT)
+    t = np.arange(0.0, duration + DT / 2, DT)
     spectrum = np.fft.rfft(rng.normal(size=t.size))
     f = np.fft.rfftfreq(t.size, DT)
     spectrum[(f < BAND[0]) | (f > BAND[1])] = 0.0
     velocity = np.fft.irfft(spectrum, t.size)
-    envelope = np.sin(np.pi * t / DURATION) ** 2 * np.exp(-((t - 5.0) / 4.0) ** 2)
+    scale = duration / DURATION
+    envelope = np.sin(np.pi * t / duration) ** 2 * np.exp(-((t - 5.0 * scale)
+                                                            / (4.0 * scale)) ** 2)
     velocity *= envelope
     acc = np.gradient(velocity, DT)
-    acc *= PEAK / np.abs(acc).max()
+    acc *= peak / np.abs(acc).max()
     # trapezoidal integral from 0 ends at rest: remove its mean slope
     v = np.concatenate(([0.0], np.cumsum(0.5 * (acc[1:] + acc[:-1]) * DT)))
-    acc -= v[-1] / DURATION
+    acc -= v[-1] / duration
     return t, acc
 
 
-def write(name, header, t, values):
+def dam_motion():
+    """(t, horizontal, vertical) of dam-interface-motion.csv."""
+    t = np.arange(0.0, 3.0 + DT / 2, DT)
+    envelope = np.where(t <= 2.0, np.sin(np.pi * t / 2.0) ** 2, 0.0)
+    return (t, 6.0 * np.sin(2 * np.pi * 2.0 * t) * envelope,
+            14.0 * np.sin(2 * np.pi * 3.0 * t) * envelope)
+
+
+def write(name, header, t, *columns):
     path = os.path.join(FOLDER, name)
     with open(path, "w") as out:
         out.write(header + "\n")
-        out.writelines(f"{a:.4f},{b:.6e}\n" for a, b in zip(t, values))
-    print(f"wrote {path}: {t.size} samples, peak {np.abs(values).max():.4g}")
+        out.writelines(f"{a:.4f}," + ",".join(f"{b:.6e}" for b in row) + "\n"
+                       for a, row in zip(t, zip(*columns)))
+    print(f"wrote {path}: {t.size} samples, peaks "
+          f"{', '.join(f'{np.abs(c).max():.4g}' for c in columns)}")
 
 
 def main():
     write("site-response-motion.csv", "time,acc", *record())
+    t = np.arange(0.0, 3.0 + DT / 2, DT)
+    write("sliding-block-ground.csv", "time,acc", t,
+          np.where(t <= 1.0, 3.0 * np.sin(2 * np.pi * t), 0.0))
+    write("dam-interface-motion.csv", "time,horizontal,vertical", *dam_motion())
     t = np.arange(0.0, 0.45 + 1e-9, 0.0005)
     write("uplift-base.csv", "time,velocity", t,
           np.where(t <= 0.4, 0.5 * (1 - np.cos(2 * np.pi * 5 * t)), 0.0))

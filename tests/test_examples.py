@@ -345,3 +345,44 @@ def test_pile_against_the_smith_lumped_mass_peer(results):
     brought = 0.5 * float(ram.rho(0) * ram.area(0)) * (ram.x[1] - ram.x[0]) * float(ram.v0(0)) ** 2
     held = e["kinetic"] + e["strain"] + e["contact"] + e["soil"] + e["numerical"]
     assert abs(held - brought) <= 1e-9 * brought and e["numerical"] <= 1e-3 * brought
+
+
+def test_sliding_block_slides_as_newmarks_rigid_block(results):
+    """The stiff block's slip against the rigid-block integration of the
+    case's own record (bench/sliding_block.py): the wall velocity the case
+    integrates is linear between samples, so the ground acceleration is
+    constant on each."""
+    import sys
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "bench"))
+    from sliding_block import newmark
+
+    r = results["sliding-block"]
+    case = case_of(r)
+    pair = case.contacts[0]
+    wall = pair.wall_shear_velocity
+    acc = np.diff(wall.f) / np.diff(wall.t)
+    rigid = newmark(np.repeat(wall.t, 2)[1:-1], np.repeat(acc, 2),
+                    pair.friction * -case.gravity.g(0.0))
+    slip = r.contact(0).slip
+    largest = np.abs(rigid.u).max()
+    print(f"sliding-block: largest {np.abs(slip).max():.6g} (rigid {largest:.6g}), permanent "
+          f"{slip[-1]:.6g} (rigid {rigid.permanent:.6g})")
+    # measured: 3e-5 and 2.3e-3 of the largest (the block's flexibility)
+    assert np.abs(slip).max() == pytest.approx(largest, rel=1e-3)
+    assert abs(slip[-1] - rigid.permanent) < 5e-3 * largest
+
+
+def test_dam_interface_lifts_off_and_slides(results):
+    """The interface opens (no friction then) and slides; slab means keep
+    |shear force| <= mu N; the balance closes."""
+    r = results["dam-interface"]
+    pair = r.contact(0)
+    mu = case_of(r).contacts[0].friction
+    assert pair.episodes[-1] >= 2                     # it lifted off and landed
+    assert np.abs(pair.slip).max() > 1e-3
+    open_ = pair.force == 0.0
+    assert open_.any() and np.all(pair.shear_force[open_] == 0.0)
+    assert np.all(np.abs(pair.shear_force) <= mu * pair.force * (1 + 1e-9) + 1e-9)
+    e = r.energy
+    assert e["friction"][-1] > 0.0
+    assert abs(e["numerical"][-1]) < 1e-3 * e["external"].max()

@@ -1,7 +1,7 @@
 """The case-file side of the shear component and Coulomb friction (issue 27,
 first slice): G or Vs, v0_shear, u0_shear; bc.component; contact.friction
-and wall_shear_velocity.  Validated, kept by the round trip, and refused at
-run time with one line until the shear solver lands."""
+and wall_shear_velocity.  Validated, kept by the round trip, and run: the
+result file holds the shear datasets of docs/result-file.md."""
 
 import copy
 
@@ -12,7 +12,7 @@ import vstpetsc
 from conftest import bar, cli, make_case, write_case
 from faults import one_clean_line
 from vstpetsc import CaseError, toml_text
-from vstpetsc.shear import ISSUE, uses
+from vstpetsc.shear import uses
 
 RHO, VS = 2000.0, 200.0
 
@@ -201,27 +201,31 @@ def test_uses_names_every_shear_table():
     assert uses(case_of(plain)) == []
 
 
-REFUSAL = f"vstpetsc: error: body[0] (col).Vs: {ISSUE}\n"
-
-
 @pytest.mark.parametrize("flags", [(), ("--dry-run",)])
-def test_a_case_using_shear_is_refused_at_run_time(tmp_path, flags):
+def test_a_case_using_shear_runs_and_writes_its_datasets(tmp_path, flags):
     path = write_case(tmp_path, case_of(column_doc()))
     out = tmp_path / "r.h5"
     p = cli("run", path, "-o", out, *flags)
-    assert (p.returncode, p.stderr, p.stdout) == (2, REFUSAL, "")
-    assert not out.exists()
+    assert p.returncode == 0, p.stderr
+    assert "body col/shear: x = [0, 10], 10 elements, Vs = 200" in p.stdout
+    if flags:
+        assert not out.exists()
+        return
+    r = vstpetsc.Result(out)
+    nt = r.time.size
+    shear = r.body("col").shear
+    assert shear.u.shape == shear.v.shape == (nt, 11)
+    assert shear.stress.shape == (nt, 10) and shear.stress_max.shape == (10,)
+    pair = r.contact(0)
+    assert pair.shear_force.shape == pair.slip.shape == (nt,)
+    assert pair.attrs["permanent_slip"] == pair.slip[-1] and pair.attrs["friction"] == 0.5
+    assert r.energy.friction.shape == (nt,)
+    assert "shear" not in r.keys("body/bare")
+    # a shear absorbing end: rho Vs A by default
+    assert f"bc: col/shear right end absorbing (impedance {RHO * VS:.6g})" in p.stdout
 
 
-def test_the_python_api_refuses_it_before_writing(tmp_path):
-    out = tmp_path / "r.h5"
-    with pytest.raises(CaseError) as err:
-        vstpetsc.run(case_of(column_doc()), output=str(out), quiet=True)
-    assert err.value.problems == [f"body[0] (col).Vs: {ISSUE}"]
-    assert not out.exists()
-
-
-def test_other_problems_come_before_the_refusal(tmp_path):
+def test_other_problems_are_reported_first(tmp_path):
     doc = column_doc()
     doc["time"]["dt"] = -1.0
     path = tmp_path / "bad.toml"

@@ -170,7 +170,6 @@ def _command(command, rest):
 def _run(rest):
     from vstpetsc.case import Case
     from vstpetsc.results.files import path_problem as output_problem
-    from vstpetsc.shear import refuse_unimplemented
 
     ours, petsc_args = split_args(rest)
     opts = parse_options(ours, ["case"], FLAGS, VALUED)
@@ -179,7 +178,6 @@ def _run(rest):
     # Validate before PETSc starts: every rank reads the same file and
     # reaches the same verdict, so no rank waits in a collective call.
     case = Case.from_toml(opts["case"])
-    refuse_unimplemented(case)      # --dry-run too: its model would leave the shear out
     if opts["every"] is not None:
         if not opts["every"].isdigit() or not 1 <= int(opts["every"]) <= INT64:
             raise UsageError(f"--every: must be a whole number in 1 .. {INT64}, "

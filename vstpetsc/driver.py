@@ -19,8 +19,8 @@ from vstpetsc.recorder import Recorder, load_restart
 from vstpetsc.static import static_state
 from vstpetsc.results import layout
 from vstpetsc.results.files import foreign, path_problem, same_file
+from vstpetsc.shear import is_twin
 from vstpetsc.results.reader import Result
-from vstpetsc.shear import refuse_unimplemented
 
 
 @dataclass
@@ -64,9 +64,6 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
 
     Raises
     ------
-    vstpetsc.CaseError
-        The case uses the shear component or friction, which no solver
-        acts on yet (issue 27; nothing written).
     vstpetsc.InputError
         An option or the output cannot be used (nothing written).
     vstpetsc.SolveFailed
@@ -79,7 +76,6 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
     from vstpetsc import petsc
     from vstpetsc.petsc.options import scoped, translate
 
-    refuse_unimplemented(case)
     output = case.output_file if output is None else str(output)
     check_output(case, output)
     petsc.initialize(translate(options))
@@ -263,13 +259,13 @@ def describe_model(case, model, output):
              f"  {len(case.bodies)} bodies, {mesh.nnodes} nodes, {mesh.elem_node.size} "
              f"elements; dt = {case.dt:g}, {case.nslabs} slabs to t = "
              f"{case.nslabs * case.dt:g}; keep every {case.every}; result: {output}"]
-    for i, b in enumerate(case.bodies):
+    for i, b in enumerate(model.bodies):
         el = mesh.elements(i)
         c = np.sqrt(mesh.E[el] / mesh.rho[el])
         courant = (c * case.dt / mesh.h[el]).max()
         speed = f"{c[0]:.6g}" if np.ptp(c) == 0 else f"{c.min():.6g} .. {c.max():.6g}"
         lines.append(f"  body {b.name}: x = [{b.x[0]:g}, {b.x[1]:g}], {b.elements} elements,"
-                     f" c = {speed}, c dt / h = {courant:.3g}")
+                     f" {'Vs' if is_twin(b.name) else 'c'} = {speed}, c dt / h = {courant:.3g}")
     lines += [f"  {law.describe()}" for law in model.laws if law.describe()]
     return "\n".join(lines)
 

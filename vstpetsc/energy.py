@@ -8,12 +8,16 @@ import numpy as np
 
 from vstpetsc import model as model_mod
 
-SUMMED = ("damping", "external", "contact", "soil", "transferred")
-SUMS = ("damping", "contact", "soil", "transferred")   # the solver's global running sums
+SUMMED = ("damping", "external", "contact", "soil", "transferred", "friction")
+# the solver's global running sums; "wall": a moving wall's work through
+# friction, a part of "external"
+SUMS = ("damping", "contact", "soil", "transferred", "friction", "wall")
+SUMS_BEFORE_FRICTION = SUMS[:4]     # the restart state of files written before friction
 HELD = ("kinetic", "strain", "spring")       # the energy the bodies hold
 KEYS = HELD + SUMMED + ("numerical",)
 # "transferred": the work of a cushion on the pile head (pile driving), an
-# exchange between bodies, not a term of the balance
+# exchange between bodies, not a term of the balance; "friction": the
+# energy dissipated by sliding
 
 
 class EnergyBook:
@@ -84,6 +88,6 @@ class EnergyBook:
         for key in SUMMED:
             out[key] = self.offset[key] + totals.get(key, 0.0)
         held = (out["kinetic"] + out["strain"] + out["spring"] + out["damping"]
-                + out["contact"] + out["soil"])
+                + out["contact"] + out["soil"] + out["friction"])
         out["numerical"] = self.initial + out["external"] - held
         return out

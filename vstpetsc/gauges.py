@@ -5,12 +5,16 @@ u and v are interpolated linearly between the two nodes around x (as the
 finite element field is); stress and strain are those of the element
 holding x: the left one at an interior node, the first one at the body's
 left end.  Stress is the elongation times E / h, computed as the body's
-stress series is, so the two agree where both exist.  Pure numpy.
+stress series is, so the two agree where both exist.  A gauge on a body
+with a shear component also reads it, at the same point of the body's
+shear twin: ``shear_u``, ``shear_v``, ``shear_stress`` (G dw/dx),
+``shear_strain`` (dw/dx).  Pure numpy.
 """
 
 import numpy as np
 
 SERIES = ("u", "v", "stress", "strain")
+SHEAR = "shear_"        # the prefix of a gauge's shear series
 
 
 def gauge_path(name=None, key=None):
@@ -45,10 +49,14 @@ class Gauges:
         self.names = [g.name for g in specs]
         self.bodies = [model.case.bodies[g.body].name for g in specs]
         self.specs = specs
+        # a channel: (gauge name, series prefix, mesh body), axial then shear
+        self.channels = [(g.name, "", g.body) for g in specs]
+        self.channels += [(g.name, SHEAR, mesh.twins[g.body]) for g in specs
+                          if g.body in mesh.twins]
         left, w, factor, inv_h = [], [], [], []
-        for g in specs:
-            nodes, elements = mesh.nodes(g.body), mesh.elements(g.body)
-            e, weight = element_at(mesh.x[nodes], g.x)
+        for name, _, body in self.channels:
+            nodes, elements = mesh.nodes(body), mesh.elements(body)
+            e, weight = element_at(mesh.x[nodes], self.specs[self.names.index(name)].x)
             left.append(nodes.start + e)
             w.append(weight)
             el = elements.start + e
@@ -62,15 +70,19 @@ class Gauges:
         self.factor, self.inv_h = np.asarray(factor), np.asarray(inv_h)
 
     def __len__(self):
-        return len(self.names)
+        """The number of channels (a gauge on a body with a shear component
+        has two); a row of :meth:`fill` holds 4 per channel."""
+        return len(self.channels)
 
     def series(self):
         """[(dataset name, column)]: the layout of a row of :meth:`fill`."""
-        return [(gauge_path(name, key), j * len(self) + i)
-                for j, key in enumerate(SERIES) for i, name in enumerate(self.names)]
+        n = len(self.channels)
+        return [(gauge_path(name, prefix + key), j * n + i)
+                for j, key in enumerate(SERIES)
+                for i, (name, prefix, _) in enumerate(self.channels)]
 
     def fill(self, u, v, row):
-        """``row`` (4 x gauges, flat: all u, all v, all stress, all strain)
+        """``row`` (4 x channels, flat: all u, all v, all stress, all strain)
         from ``u`` and ``v`` at :attr:`nodes`."""
         out = row.reshape(4, -1)
         w = self.w

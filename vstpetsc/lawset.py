@@ -36,9 +36,10 @@ class LawSet:
         """Global dof numbers of E."""
         return (2 * self.nodes[:, None] + np.arange(2)).ravel()
 
-    def start_slab(self, dt):
+    def start_slab(self, dt, t0):
         for law, idx in zip(self.laws, self.node_index):
             law.start_slab(self.u[idx], dt)
+            law.start_time(t0)
 
     def acts(self, y):
         """Whether any law does anything in the slab at the coordinates y."""

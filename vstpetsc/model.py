@@ -6,12 +6,13 @@ element never joins two bodies and the nodes of a contact pair between two
 bodies are neighbours.  Pure numpy.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from vstpetsc.laws import build_laws
 from vstpetsc.schema import MASSES
+from vstpetsc.shear import field_bodies
 
 
 @dataclass
@@ -32,6 +33,10 @@ class Mesh:
     mass_off : (ne,) the off-diagonal o of the element mass matrix
         rho A h / 12 [[6 - o, o], [o, 6 - o]] (2: consistent, 1: averaged,
         0: lumped).
+    names : the bodies' names (a shear twin's is "<name>/shear").
+    axial_nodes : the nodes of the axial field, 0 .. axial_nodes - 1; the
+        shear twins' follow (vstpetsc.shear).
+    twins : {axial body: the body that carries its shear motion}.
     """
 
     x: np.ndarray
@@ -47,6 +52,9 @@ class Mesh:
     kf: np.ndarray
     cf: np.ndarray
     mass_off: np.ndarray
+    names: tuple = ()
+    axial_nodes: int = 0
+    twins: dict = field(default_factory=dict)
 
     @property
     def nnodes(self):
@@ -108,12 +116,14 @@ class Operators:
 
 @dataclass
 class Model:
-    """A case in mesh terms, with its laws (:mod:`vstpetsc.laws`)."""
+    """A case in mesh terms, with its laws (:mod:`vstpetsc.laws`);
+    ``bodies``: the mesh's bodies, the case's then their shear twins."""
 
     case: object
     mesh: Mesh
     ops: Operators
     laws: list
+    bodies: list
 
     @property
     def nonlinear(self):
@@ -127,17 +137,20 @@ class Model:
 def build_model(case):
     """Mesh the bodies, assemble M and K, build the laws and let them add
     their linear terms."""
-    mesh = build_mesh(case.bodies)
+    bodies, twins = field_bodies(case.bodies)
+    mesh = build_mesh(bodies, len(case.bodies), twins)
     ops = element_operators(mesh)
     laws = build_laws(case, mesh)
     for law in laws:
         law.add_operators(ops)
-    return Model(case, mesh, ops, laws)
+    return Model(case, mesh, ops, laws, bodies)
 
 
-def build_mesh(bodies):
+def build_mesh(bodies, axial=None, twins=None):
     """Every body meshed with its own number of equal linear elements;
-    material tables evaluated at the element midpoints."""
+    material tables evaluated at the element midpoints.  The first
+    ``axial`` bodies (default all) are the axial field; ``twins`` maps
+    them to their shear twins among the others."""
     counts = np.array([b.elements + 1 for b in bodies])
     first = np.concatenate(([0], np.cumsum(counts)))
     x = np.concatenate([np.linspace(b.x[0], b.x[1], b.elements + 1) for b in bodies])
@@ -149,12 +162,14 @@ def build_mesh(bodies):
     profile = lambda key: np.concatenate(
         [getattr(b, key)(mid[elem_body == i]) for i, b in enumerate(bodies)])
     constant = lambda values: np.array(values, dtype=float)[elem_body]
+    axial = len(bodies) if axial is None else axial
     return Mesh(x, first, elem_node, elem_body, h, profile("E"), profile("area"),
                 profile("rho"), constant([b.damping[0] for b in bodies]),
                 constant([b.damping[1] for b in bodies]),
                 constant([b.foundation[0] for b in bodies]),
                 constant([b.foundation[1] for b in bodies]),
-                constant([MASSES[b.mass] for b in bodies]))
+                constant([MASSES[b.mass] for b in bodies]),
+                tuple(b.name for b in bodies), int(first[axial]), dict(twins or {}))
 
 
 def element_operators(mesh):
@@ -239,7 +254,7 @@ def initial_state(model):
     """Nodal u0 and v0 from the bodies' profiles."""
     mesh = model.mesh
     u, v = np.zeros(mesh.nnodes), np.zeros(mesh.nnodes)
-    for b, body in enumerate(model.case.bodies):
+    for b, body in enumerate(model.bodies):
         sl = mesh.nodes(b)
         u[sl], v[sl] = body.u0(mesh.x[sl]), body.v0(mesh.x[sl])
     return u, v

@@ -175,8 +175,9 @@ class Recorder:
         snapshots = self._snapshots(rhs=snapshot)
         if self.writer:
             writer, self.writer = self.writer, None
-            groups = {law.group: law.final_attrs() for law in self.model.recorded
-                      if hasattr(law, "final_attrs")}
+            groups = layout.by_group([law for law in self.model.recorded
+                                      if hasattr(law, "final_attrs")],
+                                     lambda law: law.final_attrs())
             writer.close(status, snapshots, slab, groups=groups, slabs_done=slab, **attrs)
 
 

@@ -1,14 +1,21 @@
-"""The case keys of the shear component and of Coulomb friction (issue 27,
-docs/case-file.md): a body's ``G`` or ``Vs``, ``v0_shear`` and ``u0_shear``;
-a bc's ``component``; a contact's ``friction`` and ``wall_shear_velocity``.
+"""The shear component (docs/shear.md): its case keys (a body's ``G`` or
+``Vs``, ``v0_shear`` and ``u0_shear``; a bc's ``component``; a contact's
+``friction`` and ``wall_shear_velocity``) and the field that carries it.
 
-Validation only: until the shear solver lands, :func:`refuse_unimplemented`
-stops a case that uses any of them before it runs, so nothing is silently
-ignored.  Nothing here imports PETSc.
+The shear motion w(x, t) of a body obeys the axial equation with E := G, so
+the field is a second set of bodies: each body with a shear component gets
+a twin (:func:`shear_twin`) meshed after every axial body, with the same
+elements, density, area, damping and foundation, G for E and the shear
+initial state.  A twin shares no element with anything, so the slab matrix
+is block diagonal (axial | shear) and every part of the solver (the slab
+solve, restarts, ranks, envelopes, energies) treats the two fields alike;
+what joins them is only Coulomb friction (laws/friction.py), whose limit
+reads the axial pair's normal force.  Nothing here imports PETSc.
 """
 
+import dataclasses
+
 from vstpetsc.checker import MAGNITUDE
-from vstpetsc.errors import CaseError
 from vstpetsc.history import History
 
 BODY_KEYS = ("G", "Vs", "v0_shear", "u0_shear")
@@ -16,7 +23,7 @@ CONTACT_KEYS = ("friction", "wall_shear_velocity")
 COMPONENTS = ("axial", "shear")
 FRICTION_FORMULATIONS = ("seed", "power")
 NO_SHEAR = (None, None, None)
-ISSUE = "the shear component is not implemented yet (issue 27)"
+SUFFIX = "/shear"       # a twin's name: its datasets are /body/<name>/shear/...
 
 
 class ShearModulus:
@@ -114,6 +121,25 @@ def check_pair(chk, where, bodies, left, right, friction):
     return mu, wall_v
 
 
+def shear_twin(body):
+    """The body that carries ``body``'s shear motion in the mesh."""
+    return dataclasses.replace(body, name=body.name + SUFFIX, E=body.G,
+                               v0=body.v0_shear or History(), u0=body.u0_shear or History(),
+                               G=None, v0_shear=None, u0_shear=None)
+
+
+def field_bodies(bodies):
+    """The mesh's bodies: every axial body, then the shear twins of those
+    with a shear component; and {axial body: its twin's index}."""
+    twins = {b: len(bodies) + j for j, b in enumerate(
+        [i for i, body in enumerate(bodies) if body.has_shear])}
+    return list(bodies) + [shear_twin(bodies[b]) for b in twins], twins
+
+
+def is_twin(name):
+    return name.endswith(SUFFIX)
+
+
 def uses(case):
     """The keys through which ``case`` uses the shear component or friction
     (the first key of each table that does)."""
@@ -123,11 +149,3 @@ def uses(case):
              if c.friction is not None]
     used += [f"bc[{k}].component" for k, b in enumerate(case.bcs) if b.component == "shear"]
     return used
-
-
-def refuse_unimplemented(case):
-    """CaseError (one line, the first key) if ``case`` uses the shear
-    component or friction, which no solver acts on yet."""
-    used = uses(case)
-    if used:
-        raise CaseError([f"{used[0]}: {ISSUE}"])

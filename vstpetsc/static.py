@@ -109,13 +109,18 @@ class StaticProblem:
         self.D = band_matrix(2.0 * ops.m_diag / dt + ops.c_diag / 3.0,
                              2.0 * ops.m_off / dt + ops.c_off / 3.0)
         self.F = static_forces(model.laws, n)
-        self.laws = model.nonlinear
+        # the static state is the axial field's: the shear field (nodes from
+        # axial_nodes on) starts from its own initial state, held here
+        axial = model.mesh.axial_nodes
+        self.laws = [law for law in model.nonlinear if law.nodes.max() < axial]
         constrained = [c.node for law in model.laws for c in law.constraints()]
-        self.absorbing = sorted({node for law in model.laws for node in law.held_nodes()})
+        self.absorbing = sorted({node for law in model.laws for node in law.held_nodes()
+                                 if node < axial})
         self.u_free = np.ones(n, dtype=bool)
         self.u_free[constrained + self.absorbing] = False
-        self.w_free = np.ones(n, dtype=bool)
-        self.w_free[constrained] = False
+        self.u_free[axial:] = False
+        self.w_free = self.u_free.copy()
+        self.w_free[self.absorbing] = True
 
     # step 1: the static problem ------------------------------------------
     def rest(self):

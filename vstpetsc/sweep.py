@@ -67,6 +67,8 @@ def quantities(result):
     for k, pair in enumerate(s["pairs"]):
         out.update({f"force_peak_{k}": pair["peak_force"],
                     f"contact_time_{k}": pair["duration"], f"impulse_{k}": pair["impulse"]})
+        if "slip" in pair:
+            out.update({f"slip_{k}": pair["slip"], f"slip_max_{k}": pair["slip_max"]})
     out["numerical_energy"] = s["energy"].get("numerical", math.nan)
     for k, soil in enumerate(s.get("soils", [])):
         out.update({f"set_{k}": soil["set"], f"blow_count_{k}": soil["blow_count"]})

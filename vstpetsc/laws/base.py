@@ -24,6 +24,7 @@ velocities v^{n+} and v^{(n+1)-}; for a pair, the rates at which its gap
 closes), and its terms in the slab equations of node k are c_k f^a(y):
 
 - ``start_slab(u, dt)``: displacements of its nodes at t^n, before Newton;
+- ``start_time(t0)``: the slab's start time (a law with a history of time);
 - ``acts(y1, y2)``: whether the law does anything in the slab at y (a
   cheap test before Newton);
 - ``force(y1, y2)``: (f1, f2, df1/dy1, df1/dy2, df2/dy1, df2/dy2) in plain
@@ -31,6 +32,9 @@ closes), and its terms in the slab equations of node k are c_k f^a(y):
   in the slab;
 - ``finish_slab(t0, dt)``: after convergence (the last ``force`` call was at
   the converged coordinates): update its state and what it reports;
+- ``work_terms(w)`` (optional): how the slab's work w = f . y it took
+  splits over the energy terms, ((key, value), ...); default all of it to
+  ``energy_key``;
 - ``static(u)``: (residual, tangent) on its nodes for the static initial
   state; ``static_limit(u)``: a line naming the law's key when it cannot
   carry its share of the static load (None: it can).
@@ -96,6 +100,9 @@ class Law:
 
     def held_nodes(self):
         return []
+
+    def start_time(self, t0):
+        """The start time t0 of the slab that follows."""
 
     def static_loads(self):
         """The loads that a static start carries: those constant in time

@@ -1,13 +1,15 @@
 """Gravity: the body force rho A g(t) along +x on every body, and m g(t) on
 every support mass.  Its consistent nodal load is the row sums of M (the
-bars' masses and the support masses) times g (docs/loads.md section 1)."""
+bars' masses and the support masses) times g (docs/loads.md section 1), on
+the axial field only (gravity is along x; the shear motion is across)."""
 
 from vstpetsc.laws.base import FieldLoad, Law
 
 
 class Gravity(Law):
-    def __init__(self, spec):
+    def __init__(self, spec, axial_nodes):
         self.g = spec.g
+        self.axial_nodes = axial_nodes
         self.ops = None
 
     def add_operators(self, ops):
@@ -18,6 +20,7 @@ class Gravity(Law):
         lumped = ops.m_diag.copy()
         lumped[:-1] += ops.m_off
         lumped[1:] += ops.m_off
+        lumped[self.axial_nodes:] = 0.0
         return [FieldLoad(lumped, self.g)]
 
     def static_loads(self):
@@ -31,5 +34,5 @@ class Gravity(Law):
         return f"gravity: {what} along +x"
 
 
-def build(spec):
-    return Gravity(spec)
+def build(spec, mesh):
+    return Gravity(spec, mesh.axial_nodes)

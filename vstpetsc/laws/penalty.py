@@ -13,6 +13,7 @@ the penalty spring at a frequency the slabs resolve, and the contact force
 follows the arriving wave (docs/accuracy.md).
 """
 
+from vstpetsc.laws.coulomb import penalty_normal
 from vstpetsc.laws.gap import active_intervals, closed_on_slab, gap_coefficients, pair_integrals
 from vstpetsc.laws.pair import PairLaw
 
@@ -117,6 +118,18 @@ class PenaltyContact(PairLaw):
         G1, G2, W11, W12, W21, W22 = integrals
         w = self.penalty
         return (-w * G1, -w * G2, w * W11, w * W12, w * W21, w * W22)
+
+    def normal_force(self):
+        """The normal force of the last force() inside the slab: (n0, n1, n2)
+        of N = n0 + n1 theta + n2 theta^2 and its pieces [(p, q)] of [0, 1],
+        or None without contact.  "power": k max(0, -g); "seed": its
+        slab mean J / dt on the whole slab (what its residual weighs)."""
+        if self.last is None:
+            return None
+        if self.power:
+            return penalty_normal(*gap_coefficients(self.gn, *self.rates, self.dt),
+                                  self.penalty)
+        return (-self.penalty * (self.last[0] + self.last[1]) / self.dt, 0.0, 0.0), [(0.0, 1.0)]
 
     @property
     def static_stiffness(self):

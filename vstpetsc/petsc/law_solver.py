@@ -39,6 +39,11 @@ class LawSolver:
         # f . y the laws took, summed per energy term ("contact", "soil")
         self.keys = [getattr(law, "energy_key", "contact") for law in self.laws.laws]
         self.work = dict.fromkeys(["contact", *self.keys], 0.0)
+        # laws whose work goes to several terms (friction: dissipated,
+        # stored, the wall's)
+        self.splits = [getattr(law, "work_terms", None) for law in self.laws.laws]
+        if any(self.splits):
+            self.work.update(dict.fromkeys(["friction", "wall"], 0.0))
         # laws whose work on one of their nodes is reported ("transferred")
         self.heads = [(j, -law.signs[law.transfer_node],
                        int(self.laws.node_index[j][law.transfer_node]))
@@ -78,7 +83,7 @@ class LawSolver:
         if isinstance(self.newton, native.PenaltySlab):
             return self._solve_compiled(X, slab_index)
         laws = self.laws
-        laws.start_slab(dt)
+        laws.start_slab(dt, (slab_index - 1) * dt)
         y0 = self.coupling.coordinates(X)
         if not laws.acts(y0):
             # the laws' last evaluation must be at this slab (finish_slab
@@ -99,7 +104,13 @@ class LawSolver:
         self.acted = True
         f, y = self.f.tolist(), list(map(float, y))
         for j, key in enumerate(self.keys):
-            self.work[key] += f[2 * j] * y[2 * j] + f[2 * j + 1] * y[2 * j + 1]
+            work = f[2 * j] * y[2 * j] + f[2 * j + 1] * y[2 * j + 1]
+            split = self.splits[j]
+            if split is None:
+                self.work[key] += work
+            else:
+                for part, value in split(work):
+                    self.work[part] += value
         return self.newton.iterations
 
     def _solve_compiled(self, X, slab_index):

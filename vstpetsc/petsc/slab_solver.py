@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from vstpetsc import slab
-from vstpetsc.energy import SUMS
+from vstpetsc.energy import SUMS, SUMS_BEFORE_FRICTION
 from vstpetsc.envelope import StressEnvelope
 from vstpetsc.errors import SolveFailed
 from vstpetsc.loading import SlabLoads
@@ -176,8 +176,10 @@ class SlabSolver:
 
     def totals(self):
         """The summed energy terms over every rank (collective)."""
-        return {**self.work, **self.nonlinear.work,
-                "external": self.space.sum_over_ranks(self.local_work)}
+        laws = self.nonlinear.work
+        # a moving wall's work through friction is external, the same on every rank
+        return {**self.work, **laws,
+                "external": self.space.sum_over_ranks(self.local_work) + laws.get("wall", 0.0)}
 
     def set_state(self, u, v, envelope=None):
         """Start from displacements u and velocities v (global node arrays):
@@ -224,12 +226,13 @@ class SlabSolver:
     def _restore_sums(self, saved):
         """Take back the sums of :meth:`energy_sums`; on another number of
         ranks rank 0 takes the whole external work (equal to rounding)."""
-        sums, shares = saved[:len(SUMS)], saved[len(SUMS):]
-        for key, value in zip(SUMS, sums.tolist()):
+        rank, size = self.space.comm.getRank(), self.space.comm.getSize()
+        names = SUMS if saved.size != len(SUMS_BEFORE_FRICTION) + size else SUMS_BEFORE_FRICTION
+        sums, shares = saved[:len(names)], saved[len(names):]
+        for key, value in zip(names, sums.tolist()):
             for work in (self.work, self.nonlinear.work):
                 if key in work:
                     work[key] = value
-        rank, size = self.space.comm.getRank(), self.space.comm.getSize()
         if shares.size == size:
             self.local_work = float(shares[rank])
         else:

@@ -5,6 +5,7 @@ their names from here.
     /time                          (nt,)
     /body/<name>/x, u, v, stress   (nn,), (nt, nn), (nt, nn), (nt, ne)
     /body/<name>/stress_min, stress_max   (ne,) envelopes, rewritten with every block
+    /body/<name>/shear/u, v, stress, stress_min, stress_max   the shear component, if any
     /<law group>/<series>          (nt,)   e.g. /contact/0/gap
     /energy/kinetic, strain, spring, damping, external, contact, soil, numerical   (nt,)
     /solver/newton_iterations, linear_iterations, wall_time, slab   (nt,)
@@ -51,7 +52,7 @@ def series(model):
     """[(dataset name, shape of one row)] of every series, in the order the
     file creates them."""
     mesh, out = model.mesh, [(TIME, ())]
-    for b, body in enumerate(model.case.bodies):
+    for b, body in enumerate(model.bodies):
         nn = mesh.nodes(b).stop - mesh.nodes(b).start
         out += [(body_path(body.name, "u"), (nn,)), (body_path(body.name, "v"), (nn,)),
                 (body_path(body.name, "stress"), (body.elements,))]
@@ -91,9 +92,18 @@ def statics(model):
             for i, b in enumerate(model.case.bodies)}
 
 
+def by_group(laws, what):
+    """{group: the merged dicts what(law) of its laws} (a pair's normal law
+    and its friction share /contact/<k>)."""
+    out = {}
+    for law in laws:
+        out.setdefault(law.group, {}).update(what(law))
+    return out
+
+
 def group_attrs(model):
     """{group: attributes} of the laws that report."""
-    return {**{law.group: law.attrs() for law in model.recorded}, **Gauges(model).attrs()}
+    return {**by_group(model.recorded, lambda law: law.attrs()), **Gauges(model).attrs()}
 
 
 def formulation(model):
@@ -107,7 +117,7 @@ def envelope_snapshots(model, lo, hi):
     elongation envelopes (lo, hi) of all elements, and those."""
     factor = model.mesh.E / model.mesh.h
     out = {ELONGATION[0]: lo, ELONGATION[1]: hi}
-    for b, body in enumerate(model.case.bodies):
+    for b, body in enumerate(model.bodies):
         el = model.mesh.elements(b)
         out[body_path(body.name, "stress_min")] = lo[el] * factor[el]
         out[body_path(body.name, "stress_max")] = hi[el] * factor[el]
@@ -133,7 +143,7 @@ class RowFiller:
         mesh = model.mesh
         self.dt = model.case.dt
         self.bodies = []
-        for b, body in enumerate(model.case.bodies):
+        for b, body in enumerate(model.bodies):
             nodes = mesh.nodes(b)
             self.bodies.append((body_path(body.name, "u"), body_path(body.name, "v"),
                                 body_path(body.name, "stress"), nodes,
@@ -230,10 +240,10 @@ def last_state(f, model):
     """(slab, u, v, {group: {series: last value}}, energies of the first
     row, of the last row) of an open result file, for a restart."""
     k = int(f["solver/slab"][-1])
-    u = np.concatenate([f[body_path(b.name, "u")][-1] for b in model.case.bodies])
-    v = np.concatenate([f[body_path(b.name, "v")][-1] for b in model.case.bodies])
-    laws = {law.group: {key: f[f"{law.group}/{key}"][-1] for key in law.series}
-            for law in model.recorded}
+    u = np.concatenate([f[body_path(b.name, "u")][-1] for b in model.bodies])
+    v = np.concatenate([f[body_path(b.name, "v")][-1] for b in model.bodies])
+    laws = by_group(model.recorded, lambda law: {key: f[f"{law.group}/{key}"][-1]
+                                                 for key in law.series})
     for law, name in event_sets(model):
         # the last row's count of events: a block killed midway may have
         # written events of later slabs (the writer cuts them on reopening)

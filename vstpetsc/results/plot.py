@@ -82,13 +82,27 @@ def contact_panel(ax, r, u):
         name = text(pair.attrs.get("pair", str(k)))
         ax.step(t, pair.force, where="pre", label=f"[{k}] {name.replace(',', ' | ')}")
     if r.ncontacts:
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, loc="upper left")
     else:
         ax.text(0.5, 0.5, "no contact pairs", ha="center", transform=ax.transAxes)
     ax.set_xlabel(f"t [{u['time']}]")
     ax.set_ylabel(f"slab-mean contact force [{u['force']}]")
     ax.set_title("(b) contact force (compressive positive)")
+    slip_axis(ax, r, u)
     return ax
+
+
+def slip_axis(ax, r, u):
+    """The slip of every pair with friction over time, on a second axis."""
+    sliding = [k for k in range(r.ncontacts) if "slip" in r.contact(k).keys()]
+    if not sliding:
+        return
+    twin = ax.twinx()
+    for k in sliding:
+        twin.plot(r.time, r.contact(k).slip, "--", label=f"[{k}] slip")
+    twin.set_ylabel(f"slip [{u['length']}] (dashed)")
+    twin.legend(fontsize=8, loc="lower right")
+    ax.set_title("(b) contact force (compressive positive) and slip")
 
 
 def energy_panel(ax, r, u):
@@ -126,7 +140,9 @@ def plot_sweep(path, out, x=None, y=None):
         return bearing_graph(header, data, out)
     after = header[header.index("wall_time") + 1:]
     x = x or header[0]
-    y = y or next((c for c in after if c != "message"), None)
+    # a sweep with friction is about the permanent slip (D(ky) of a sliding block)
+    y = y or ("slip_0" if "slip_0" in after else next((c for c in after if c != "message"),
+                                                       None))
     for name, what in ((x, "--x"), (y, "--y")):
         if name not in header:
             raise InputError(f"{what} {name}: no such column (columns: {', '.join(header)})")

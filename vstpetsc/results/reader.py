@@ -299,7 +299,8 @@ def _rows(ds, rows, selection):
 
 class Group:
     """A group of a result file; its datasets read on attribute or item
-    access (``g.u`` or ``g["u"]``), ``g.attrs`` its attributes."""
+    access (``g.u`` or ``g["u"]``), a subgroup as a Group (``body.shear``),
+    ``g.attrs`` its attributes."""
 
     def __init__(self, result, path):
         self._result, self._path = result, path
@@ -308,12 +309,15 @@ class Group:
         if key.startswith("_"):
             raise AttributeError(key)
         try:
-            return self._result[f"{self._path}/{key}"]
+            return self[key]
         except KeyError:
             raise AttributeError(f"{self._path} has no dataset {key!r}") from None
 
     def __getitem__(self, key):
-        return self._result[f"{self._path}/{key}"]
+        path = f"{self._path}/{key}"
+        if self._result._names.get(path.strip("/")) == "group":
+            return Group(self._result, path)
+        return self._result[path]
 
     def keys(self):
         return self._result.keys(self._path)

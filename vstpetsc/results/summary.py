@@ -32,7 +32,19 @@ def pair_summary(group, k):
             "mean_force": last("impulse_total") / duration if duration > 0 else 0.0,
             "impulse": last("impulse_total"),
             "penetration": float(max(0.0, -group["gap"].min())),
-            "contacts": contact_spans(group["events"]) if "events" in group.keys() else None}
+            "contacts": contact_spans(group["events"]) if "events" in group.keys() else None,
+            **slip_summary(group)}
+
+
+def slip_summary(group):
+    """{friction, slip (the permanent slip), slip_max (largest |slip| at
+    the kept rows)} of a pair with friction, {} without."""
+    if "slip" not in group.keys():
+        return {}
+    slip = group["slip"]
+    return {"friction": float(group.attrs.get("friction", np.nan)),
+            "slip": float(slip[-1]) if slip.size else 0.0,
+            "slip_max": float(np.abs(slip).max(initial=0.0))}
 
 
 def contact_spans(events):
@@ -169,7 +181,7 @@ def balance_lines(s):
     if "numerical" not in e:
         return []
     held = " + ".join(f"{k} {e[k]:.4g}" for k in ("kinetic", "strain", "spring", "damping",
-                                                    "contact", "soil") if k in e)
+                                                    "contact", "soil", "friction") if k in e)
     budget = max(abs(s["energy_initial"]) + abs(e["external"]), 1e-300)
     return [f"  energy balance: initial {s['energy_initial']:.4g} + external {e['external']:.4g}"
             f" = {held} + numerical {e['numerical']:.4g} ({100 * e['numerical'] / budget:.3g} %"
@@ -208,6 +220,9 @@ def format_summary(s, path):
                   f"impulse {p['impulse']:.6g}; largest penetration {p['penetration']:.4g}"]
         if p.get("contacts") is not None:
             lines.append(contact_line(k, p["name"], p["contacts"]))
+        if "slip" in p:
+            lines.append(f"        friction mu = {p['friction']:g}: permanent slip "
+                         f"{p['slip']:.6g} (largest |slip| {p['slip_max']:.6g})")
     e0, e1 = s["energy_start"], s["energy_end"]
     change = energy_change(e0, e1, s["energy"].get("numerical", 0.0), s.get("energy_peak", 0.0))
     lines.append(f"  energy: start {e0:.6g}, end {e1:.6g} ({change})")
