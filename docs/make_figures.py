@@ -175,11 +175,79 @@ def _bouncing(f, result):
             "![bouncing-bar force and energy](figures/bouncing-bar-bounces.png)")
 
 
+def _sliding_block(f, result):
+    """Key numbers and the slip figure of sliding-block against Newmark's
+    rigid block on the same (piecewise-constant) ground acceleration."""
+    import matplotlib.pyplot as plt
+
+    sys.path.insert(0, os.path.join(os.path.dirname(HERE), "bench"))
+    from sliding_block import newmark
+
+    case = result.case()
+    pair = case.contacts[0]
+    wall = pair.wall_shear_velocity
+    acc = np.diff(wall.f) / np.diff(wall.t)
+    ky = pair.friction * -case.gravity.g(0.0)
+    rigid = newmark(np.repeat(wall.t, 2)[1:-1], np.repeat(acc, 2), ky)
+    slip = result.contact(0).slip
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True,
+                                      constrained_layout=True)
+    top.step(wall.t[:-1], acc, where="post", label="ground acceleration")
+    for level in (ky, -ky):
+        top.axhline(level, color="k", ls=":", lw=0.8)
+    top.set_ylabel("m/s^2")
+    top.legend(fontsize=8)
+    top.set_title("sliding-block: the block slides while the ground outruns ky g = "
+                  f"{ky:.3g} m/s^2 (dotted)", fontsize=10)
+    bottom.plot(result.time, slip, label="vstpetsc: contact/0/slip")
+    bottom.plot(rigid.t, rigid.u, "k--", lw=0.8, label="Newmark rigid block (exact)")
+    bottom.set_ylabel("slip relative to the ground [m]")
+    bottom.set_xlabel("t [s]")
+    bottom.legend(fontsize=8)
+    fig.savefig(os.path.join(HERE, "figures", "sliding-block-slip.png"), dpi=110)
+    plt.close(fig)
+    return (f"largest slip {np.abs(slip).max():.4f} m (Newmark {np.abs(rigid.u).max():.4f}), "
+            f"permanent {slip[-1]:.4f} m (Newmark {rigid.permanent:.4f}); friction dissipated "
+            f"{f['energy/friction'][-1] / 1e3:.2f} kJ\n\n"
+            "![sliding-block slip](figures/sliding-block-slip.png)")
+
+
+def _dam_interface(f, result):
+    """Key numbers and the interface figure of dam-interface."""
+    import matplotlib.pyplot as plt
+
+    pair = result.contact(0)
+    mu = result.case().contacts[0].friction
+    t = result.time
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True,
+                                      constrained_layout=True)
+    top.plot(t, pair.force / 1e6, label="normal force N")
+    top.plot(t, mu * pair.force / 1e6, "k:", lw=0.8, label="mu N")
+    top.plot(t, np.abs(pair.shear_force) / 1e6, label="|shear force|")
+    top.set_ylabel("MN (slab means)")
+    top.legend(fontsize=8)
+    top.set_title("dam-interface: the interface slides at |T| = mu N and carries nothing "
+                  "while open", fontsize=10)
+    bottom.plot(t, 1e3 * pair.slip)
+    bottom.set_ylabel("slip [mm]")
+    bottom.set_xlabel("t [s]")
+    fig.savefig(os.path.join(HERE, "figures", "dam-interface-slip.png"), dpi=110)
+    plt.close(fig)
+    flights = analysis.flights(t, pair.impulse)
+    times = ", ".join(f"{a:.3f}-{b:.3f} s" for a, b in flights)
+    return (f"lifts off {len(flights)} time(s) ({times}); permanent slip "
+            f"{1e3 * pair.slip[-1]:.2f} mm (largest {1e3 * np.abs(pair.slip).max():.2f} mm); "
+            f"friction dissipated {f['energy/friction'][-1] / 1e3:.1f} kJ\n\n"
+            "![dam-interface slip](figures/dam-interface-slip.png)")
+
+
 KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "periodic-impacts": _periodic, "layered": _layered, "wave": _wave,
        "site-response": _site, "uplift": _uplift, "drop": _drop, "pile": _pile,
-       "bouncing-bar": _bouncing}
-NEEDS_RESULT = {"site-response", "uplift", "drop", "pile", "bouncing-bar"}
+       "bouncing-bar": _bouncing, "sliding-block": _sliding_block,
+       "dam-interface": _dam_interface}
+NEEDS_RESULT = {"site-response", "uplift", "drop", "pile", "bouncing-bar", "sliding-block",
+                "dam-interface"}
 
 
 def main():

@@ -223,6 +223,17 @@ def test_a_case_using_shear_runs_and_writes_its_datasets(tmp_path, flags):
     assert "shear" not in r.keys("body/bare")
     # a shear absorbing end: rho Vs A by default
     assert f"bc: col/shear right end absorbing (impedance {RHO * VS:.6g})" in p.stdout
+    info = cli("info", out)
+    assert f"friction mu = 0.5: permanent slip {pair.slip[-1]:.6g}" in info.stdout
+    assert "+ friction " in info.stdout                 # in the balance line
+
+
+def test_plot_shows_the_slip_of_a_pair_with_friction(tmp_path):
+    from vstpetsc.results.plot import result_figure
+
+    r = vstpetsc.run(case_of(column_doc()), output=str(tmp_path / "r.h5"), quiet=True)
+    labels = [ax.get_ylabel() for ax in result_figure(r).axes]
+    assert any(label.startswith("slip [m]") for label in labels), labels
 
 
 def test_other_problems_are_reported_first(tmp_path):

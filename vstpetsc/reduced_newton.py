@@ -88,9 +88,17 @@ class ReducedNewton:
         if len(active) == 1:
             return self._step_one(active[0], outs[active[0]], r)
         rows = [i for j in active for i in (2 * j, 2 * j + 1)]
-        # the acting laws' block: M_AA = I + S_AA J_A
-        M = [[float(a == b) + sum(self.S[a][c] * _tangent(outs, b, c) for c in rows)
-              for b in rows] for a in rows]
+        # the acting laws' block M_AA = I + S_AA J_A, J block diagonal: law
+        # j's tangent (t11, t12, t21, t22) = d f_(2j, 2j+1) / d y_(2j, 2j+1)
+        blocks = [(2 * j, outs[j][2], outs[j][3], outs[j][4], outs[j][5]) for j in active]
+        M = []
+        for i, a in enumerate(rows):
+            Sa, row = self.S[a], []
+            for c, t11, t12, t21, t22 in blocks:
+                s1, s2 = Sa[c], Sa[c + 1]
+                row += [s1 * t11 + s2 * t21, s1 * t12 + s2 * t22]
+            row[i] += 1.0
+            M.append(row)
         rhs = [r[a] for a in rows]
         d = _solve2(M, rhs) if len(rows) == 2 else _solve_dense(M, rhs)
         if d is None:
@@ -99,10 +107,15 @@ class ReducedNewton:
         for a, value in zip(rows, d):
             step[a] = value
         # the others: d_I = r_I - S_IA J_A d_A
-        jd = {c: sum(_tangent(outs, b, c) * value for b, value in zip(rows, d)) for c in rows}
+        jd = []
+        for k, (c, t11, t12, t21, t22) in enumerate(blocks):
+            d1, d2 = d[2 * k], d[2 * k + 1]
+            jd += [(c, t11 * d1 + t12 * d2), (c + 1, t21 * d1 + t22 * d2)]
+        acting = set(rows)
         for i in range(self.n):
-            if i not in jd:
-                step[i] = r[i] - sum(self.S[i][c] * jd[c] for c in rows)
+            if i not in acting:
+                Si = self.S[i]
+                step[i] = r[i] - sum(Si[c] * value for c, value in jd)
         return step
 
     def _step_one(self, j, out, r):
@@ -130,14 +143,6 @@ def not_converged(slab_index, max_it, norm):
     """The error of a plain Newton that stopped short (Python or compiled)."""
     return SolveFailed(f"slab {slab_index}: Newton did not converge (DIVERGED_MAX_IT "
                        f"after {max_it} Newton iterations, residual {norm:.3g})")
-
-
-def _tangent(outs, b, c):
-    """d f_c / d y_b from the laws' outputs (zero across laws)."""
-    j = c // 2
-    if b // 2 != j or outs[j] is None:
-        return 0.0
-    return outs[j][2 + 2 * (c % 2) + b % 2]
 
 
 def _solve2(M, r):

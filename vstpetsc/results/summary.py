@@ -188,6 +188,14 @@ def balance_lines(s):
             " dissipated by the time discretisation)"]
 
 
+def slip_lines(p):
+    """`info`'s line of a pair with friction (none without)."""
+    if "slip" not in p:
+        return []
+    return [f"        friction mu = {p['friction']:g}: permanent slip {p['slip']:.6g} "
+            f"(largest |slip| {p['slip_max']:.6g})"]
+
+
 def format_summary(s, path):
     """The one-screen text of `vstpetsc info`."""
     lines = [f"{path}: {s['status']}" + (f" ({s['message']})" if s["message"] else ""),
@@ -212,6 +220,7 @@ def format_summary(s, path):
                if p["formulation"] == "cushion" else f"penalty {p['penalty']:.4g}")
         if np.isnan(p["first_contact"]):
             lines.append(f"    [{k}] {p['name']}: no contact ({law}, {p['formulation']})")
+            lines += slip_lines(p)
             continue
         lines += [f"    [{k}] {p['name']} ({p['formulation']}, {law})",
                   f"        first contact t = {p['first_contact']:.6g}, total duration "
@@ -220,9 +229,7 @@ def format_summary(s, path):
                   f"impulse {p['impulse']:.6g}; largest penetration {p['penetration']:.4g}"]
         if p.get("contacts") is not None:
             lines.append(contact_line(k, p["name"], p["contacts"]))
-        if "slip" in p:
-            lines.append(f"        friction mu = {p['friction']:g}: permanent slip "
-                         f"{p['slip']:.6g} (largest |slip| {p['slip_max']:.6g})")
+        lines += slip_lines(p)
     e0, e1 = s["energy_start"], s["energy_end"]
     change = energy_change(e0, e1, s["energy"].get("numerical", 0.0), s.get("energy_peak", 0.0))
     lines.append(f"  energy: start {e0:.6g}, end {e1:.6g} ({change})")
