@@ -58,9 +58,18 @@ def test_rectangular_pulse_tends_to_newmark_as_the_block_stiffens(tmp_path):
         assert energy.friction[-1] == pytest.approx(MU * pair.force[-1] * abs(slip), rel=1e-5)
         assert abs(energy.numerical[-1]) < 1e-6 * energy.external[-1]
     # the block's own flexibility delays the stop by about its shear-wave
-    # transit time: the error falls like 1 / Vs (measured 4.9e-3, 1.5e-3, 4.9e-4)
+    # transit time: the error falls like 1 / Vs (measured 1.9e-3, 6.2e-4, 1.7e-4)
     order = -np.polyfit(np.log(np.sqrt(moduli)), np.log(errors), 1)[0]
     assert 0.9 < order < 1.1 and errors[-1] < 1e-3, (errors, order)
+
+
+def test_the_seed_formulation_slides_alike(tmp_path):
+    """With the seed's slab-mean normal force the same slip (N constant)."""
+    A, t0, end = 5.0, 0.2, 0.7
+    slips = [solve(tmp_path, block_case(pulse_velocity(A, t0, end), end).with_value(
+        "contact.0.formulation", form), name=form).contact(0).slip[-1]
+        for form in ("power", "seed")]
+    assert slips[1] == pytest.approx(slips[0], rel=1e-8)        # measured 2e-10
 
 
 def rigid_block_ivp(a_g, ky, end):
@@ -105,8 +114,8 @@ def test_one_sine_cycle_against_an_independent_integration(tmp_path):
     # small difference of the two (about 1.5 mm)
     assert slip.min() == pytest.approx(deepest, rel=1e-4)
     assert np.diff(slip).max() > 0
-    # the block's flexibility delays the stops, O(1 / Vs): 4.2e-3 of the
-    # largest slide here (1.4e-3 with G ten times larger)
+    # the block's flexibility delays the stops, O(1 / Vs): 2.3e-3 of the
+    # largest slide here
     assert abs(slip[-1] - expected) < 5e-3 * abs(deepest)
 
 
@@ -159,15 +168,16 @@ def test_shear_wave_through_a_frictional_interface(tmp_path, ratio):
     slip = r.contact(0).slip
     if ratio > 1:
         plateau = transmitted[transmitted > 0.9 * tau_f]
-        assert np.median(plateau) == pytest.approx(tau_f, rel=2e-3)
-        assert plateau.max() < 1.03 * tau_f          # the front's ripple (measured 1.027)
-        # the excess over the limit: tau_f for 20 ms, and two ramps of 2.5 ms;
-        # the tangential spring lets the front through before it slips (-0.9 %)
+        # measured: median 4.5e-5 off, the front's ripple 1.023
+        assert np.median(plateau) == pytest.approx(tau_f, rel=1e-3)
+        assert plateau.max() < 1.03 * tau_f
+        # the excess over the limit: tau_f for 20 ms, and two ramps of 2.5 ms
+        # (measured: total slip 3.6e-4 off, slip rate 4.2e-4)
         excess = tau_f * 0.02 + 2 * 0.5 * tau_f * 0.0025
-        assert abs(slip[-1]) == pytest.approx(2 * excess / Z, rel=1.5e-2)
+        assert abs(slip[-1]) == pytest.approx(2 * excess / Z, rel=2e-3)
         rate = np.abs(np.diff(slip)) / 2.5e-4
         assert np.median(rate[rate > 0.5 * rate.max()]) == pytest.approx(
-            2 * (ratio - 1) * tau_f / Z, rel=5e-3)
+            2 * (ratio - 1) * tau_f / Z, rel=2e-3)
     else:
         # as through one welded column of the same mesh (the interface's
         # two end nodes and stick spring against one node: 3.6e-3 measured)
