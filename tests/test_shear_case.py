@@ -252,3 +252,21 @@ def test_a_case_without_shear_still_runs(tmp_path):
                            "component": "axial"}])
     p = cli("run", write_case(tmp_path, case), "-o", tmp_path / "r.h5", "--quiet")
     assert p.returncode == 0, p.stderr
+
+
+def test_gauges_read_the_shear_component_and_export_it(tmp_path):
+    doc = column_doc()
+    doc["gauge"] = [{"name": "mid", "body": "col", "x": 5.0},
+                    {"name": "side", "body": "bare", "x": 11.0}]
+    doc["body"][0]["v0_shear"] = [[0.0, 0.0], [10.0, 1.0]]
+    r = vstpetsc.run(case_of(doc), output=str(tmp_path / "r.h5"), quiet=True)
+    mid, shear = r.gauge("mid"), r.body("col").shear
+    # at the node x = 5, as the body's shear series (every slab against kept rows)
+    assert np.array_equal(mid.shear_v[::1], shear.v[:, 5])
+    assert np.array_equal(mid.shear_stress, shear.stress[:, 4])
+    assert "shear_u" not in r.gauge("side").keys()
+    r.to_csv(tmp_path / "csv")
+    header = (tmp_path / "csv" / "gauge.csv").read_text().splitlines()[0].split(",")
+    assert header == ["time"] + [f"mid.{p}{k}" for p in ("", "shear_")
+                                 for k in ("u", "v", "stress", "strain")] + \
+        [f"side.{k}" for k in ("u", "v", "stress", "strain")]

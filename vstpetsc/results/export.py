@@ -5,7 +5,8 @@ with 17 significant digits (read back, they are the HDF5 values bit for
 bit):
 
 - ``gauge.csv``: ``time`` and ``<gauge>.u``, ``.v``, ``.stress``,
-  ``.strain`` of every gauge, a row per slab;
+  ``.strain`` of every gauge (and ``.shear_u``, ... on a body with a shear
+  component), a row per slab;
 - ``contact-<k>.csv`` (and one per other law group that reports, its path
   with ``-`` for ``/``), ``energy.csv``, ``solver.csv``: ``time`` and the
   group's one-value series, a row per kept slab (a series with a value per
@@ -29,7 +30,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from vstpetsc.gauges import SERIES as GAUGE_SERIES
+from vstpetsc.gauges import SERIES as GAUGE_SERIES, SHEAR
 from vstpetsc.results import layout
 
 KEPT_GROUPS = ("energy", "solver")
@@ -63,7 +64,9 @@ def to_csv(result, folder):
         columns = {"time": result.gauge(result.gauges[0]).time}
         for name in result.gauges:
             g = result.gauge(name)
-            columns.update((f"{name}.{key}", g[key]) for key in GAUGE_SERIES)
+            keys = [p + key for p in ("", SHEAR) for key in GAUGE_SERIES
+                    if p + key in g.keys()]
+            columns.update((f"{name}.{key}", g[key]) for key in keys)
         paths.append(_write_csv(os.path.join(folder, "gauge.csv"), columns))
     for group in law_groups(result) + list(KEPT_GROUPS):
         columns = {"time": result.time, **result.series(group)}
