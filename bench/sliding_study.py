@@ -18,7 +18,7 @@ base shear against the single mode's (what the higher modes add).
     .venv/bin/python bench/sliding_study.py [--keep DIR]
 
 Prints markdown tables, writes docs/figures/sliding-block-dky.png and
-docs/figures/sliding-column.png. About a minute on one core.
+docs/figures/sliding-column.png. About 90 s on one core.
 """
 
 import argparse
@@ -222,6 +222,26 @@ def welded_table(welded):
     return "\n".join(lines)
 
 
+def refinement_check(rows, folder):
+    """A few runs of (b) again on twice the elements at half the step, and
+    the single mode on finer sub-steps: how much of a difference between
+    the models is discretisation. Markdown lines."""
+    t, a = ground_acceleration(column_case(), COLUMN_END)
+    lines = ["| 4H/Vs [s] | ky | D vstpetsc, 40 el. / 80 el. half dt [m] | D single mode, "
+             "default / 4x finer sub-steps [m] |", "|---|---|---|---|"]
+    for Vs, mu in ((40.0, 0.1), (160.0, 0.1), (80.0, 0.2)):
+        row = next(r for r in rows if (r["body.col.Vs"], r["contact.0.friction"]) == (Vs, mu))
+        case = column_case(Vs, mu).with_value("body.col.elements", 2 * COLUMN_ELEMENTS)
+        fine = vstpetsc.run(case.with_value("time.dt", COLUMN_DT / 2),
+                            output=os.path.join(folder, f"fine-{Vs:g}-{mu:g}.h5"), quiet=True,
+                            out=io.StringIO()).contact(0).slip[-1]
+        _, cs, *_ = coupled_single_mode(t, a, mu * G_ACC, omega(Vs), substeps=16,
+                                        steps_per_radian=40)
+        lines.append(f"| {4 * H / Vs:g} | {mu:g} | {row['slip_0']:+.5f} / {fine:+.5f} | "
+                     f"{row['coupled']:+.5f} / {cs[-1]:+.5f} |")
+    return "\n".join(lines)
+
+
 def column_figure(rows, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -261,7 +281,8 @@ def main():
               f"({len(rows)} runs, {seconds:.1f} s)\n")
         print(column_table(rows) + "\n")
         column_figure(rows, os.path.join(FIGURES, "sliding-column.png"))
-        print(welded_table(welded_base_shear(folder)))
+        print(welded_table(welded_base_shear(folder)) + "\n")
+        print(refinement_check(rows, folder))
         print(f"\n(b) with the references and the welded runs: {time.perf_counter() - start:.1f} s")
 
 
