@@ -63,7 +63,8 @@ def ground_acceleration(case, end=None):
 
 def rigid_block(case, end=None):
     """Newmark's rigid block under the case's ground motion, a_y = mu g."""
-    return newmark(*ground_acceleration(case, end), case.contacts[0].friction * -case.gravity.g(0.0))
+    yield_acceleration = case.contacts[0].friction * -case.gravity.g(0.0)
+    return newmark(*ground_acceleration(case, end), yield_acceleration)
 
 
 def run_sweep(case, settings, folder):
@@ -177,7 +178,8 @@ def column_study(folder):
         r = Result(os.path.join(folder, row["file"]))
         row["history"] = (r.time, r.contact(0).slip[:])
         ct, cs, *_ = coupled_single_mode(t, a, mu * G_ACC, omega(Vs))
-        row["coupled"], row["coupled_max"], row["coupled_history"] = cs[-1], np.abs(cs).max(), (ct, cs)
+        row["coupled"], row["coupled_max"] = cs[-1], np.abs(cs).max()
+        row["coupled_history"] = (ct, cs)
         rigid = newmark(t, a, mu * G_ACC)
         row["rigid"], row["rigid_max"] = rigid.permanent, float(np.abs(rigid.u).max())
         row["rigid_history"] = (rigid.t, rigid.u)
