@@ -120,7 +120,7 @@ def test_one_sine_cycle_against_an_independent_integration(tmp_path):
 
 
 def test_steady_two_way_harmonic_sliding(tmp_path):
-    A, f, dt, cycles = 4.0, 2.0, 2e-4, 8
+    A, f, dt, cycles = 4.0, 2.0, 2e-4, 6
     w, r_ = 2 * np.pi * f, KY / A                  # r = mu g / A = 0.49 < 0.537
     end = cycles / f
     t = np.arange(0.0, end + dt / 2, dt)
