@@ -51,8 +51,9 @@ def measure_overhead(quick):
             row["goal"] = OVERHEAD_GOALS.get((kind, n))
             rows.append(row)
             print(f"overhead {kind} {n}: {row['ratio']:.1f} x floor", flush=True)
-    python = [(kind, 100) for kind in overhead.CASES] + [("free", sizes[-1])]
-    for kind, n in python:                 # the Python path, for comparison
+    # the Python path, for comparison (quick: the small size only)
+    python = [(kind, 100) for kind in overhead.CASES] + ([] if quick else [("free", sizes[-1])])
+    for kind, n in python:
         rows.append(overhead.overhead(kind, n, overhead.slabs_for(kind, n, quick), reps,
                                       options=("-vst_native", "0")))
         rows[-1]["goal"] = None
