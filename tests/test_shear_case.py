@@ -3,8 +3,6 @@ first slice): G or Vs, v0_shear, u0_shear; bc.component; contact.friction
 and wall_shear_velocity.  Validated, kept by the round trip, and run: the
 result file holds the shear datasets of docs/result-file.md."""
 
-import copy
-
 import numpy as np
 import pytest
 
@@ -12,7 +10,6 @@ import vstpetsc
 from conftest import bar, cli, make_case, write_case
 from faults import one_clean_line
 from vstpetsc import CaseError, toml_text
-from vstpetsc.shear import uses
 
 RHO, VS = 2000.0, 200.0
 
@@ -189,16 +186,6 @@ def test_round_trip_keeps_the_shear_keys(tmp_path):
     assert again.bodies == case.bodies and again.contacts == case.contacts
     assert again.bcs == case.bcs
     assert again.contacts[1].friction == 0.0
-
-
-def test_uses_names_every_shear_table():
-    doc = column_doc()
-    doc["body"][0]["G"] = doc["body"][0].pop("Vs")
-    assert uses(case_of(doc)) == ["body[0] (col).G", "contact[0].friction",
-                                  "bc[0].component"]
-    plain = copy.deepcopy(doc)
-    del plain["body"][0]["G"], plain["contact"][0]["friction"], plain["bc"]
-    assert uses(case_of(plain)) == []
 
 
 @pytest.mark.parametrize("flags", [(), ("--dry-run",)])

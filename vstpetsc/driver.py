@@ -19,8 +19,8 @@ from vstpetsc.recorder import Recorder, load_restart
 from vstpetsc.static import static_state
 from vstpetsc.results import layout
 from vstpetsc.results.files import foreign, path_problem, same_file
-from vstpetsc.shear import is_twin
 from vstpetsc.results.reader import Result
+from vstpetsc.shear import is_twin
 
 
 @dataclass

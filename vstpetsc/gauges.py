@@ -49,14 +49,14 @@ class Gauges:
         self.names = [g.name for g in specs]
         self.bodies = [model.case.bodies[g.body].name for g in specs]
         self.specs = specs
-        # a channel: (gauge name, series prefix, mesh body), axial then shear
-        self.channels = [(g.name, "", g.body) for g in specs]
-        self.channels += [(g.name, SHEAR, mesh.twins[g.body]) for g in specs
+        # a channel: (gauge name, series prefix, mesh body, x), axial then shear
+        self.channels = [(g.name, "", g.body, g.x) for g in specs]
+        self.channels += [(g.name, SHEAR, mesh.twins[g.body], g.x) for g in specs
                           if g.body in mesh.twins]
         left, w, factor, inv_h = [], [], [], []
-        for name, _, body in self.channels:
+        for _, _, body, x in self.channels:
             nodes, elements = mesh.nodes(body), mesh.elements(body)
-            e, weight = element_at(mesh.x[nodes], self.specs[self.names.index(name)].x)
+            e, weight = element_at(mesh.x[nodes], x)
             left.append(nodes.start + e)
             w.append(weight)
             el = elements.start + e
@@ -79,7 +79,7 @@ class Gauges:
         n = len(self.channels)
         return [(gauge_path(name, prefix + key), j * n + i)
                 for j, key in enumerate(SERIES)
-                for i, (name, prefix, _) in enumerate(self.channels)]
+                for i, (name, prefix, _, _) in enumerate(self.channels)]
 
     def fill(self, u, v, row):
         """``row`` (4 x channels, flat: all u, all v, all stress, all strain)

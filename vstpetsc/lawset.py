@@ -9,6 +9,8 @@ the 2L coordinates y.  Pure numpy (and plain floats per law).
 
 import numpy as np
 
+from vstpetsc.laws.base import Law
+
 
 class LawSet:
     """The laws' dofs, P, and their terms and tangents."""
@@ -27,6 +29,9 @@ class LawSet:
             self.node_index.append(idx)
             for a in range(2):
                 self.P[2 * idx + a, 2 * j + a] = law.signs
+        # the laws that read the slab's start time (a Python call per law
+        # and slab on the hot path otherwise: pile driving has a law per soil node)
+        self.timed = [law for law in self.laws if type(law).start_time is not Law.start_time]
         self.u = np.zeros(self.nodes.size)           # displacement of the nodes at t^n
         self.f = np.zeros(self.reduced)              # the laws' terms of the last evaluation
         self.jac = np.zeros((self.reduced, self.reduced))
@@ -39,6 +44,7 @@ class LawSet:
     def start_slab(self, dt, t0):
         for law, idx in zip(self.laws, self.node_index):
             law.start_slab(self.u[idx], dt)
+        for law in self.timed:
             law.start_time(t0)
 
     def acts(self, y):

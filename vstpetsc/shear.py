@@ -138,14 +138,3 @@ def field_bodies(bodies):
 
 def is_twin(name):
     return name.endswith(SUFFIX)
-
-
-def uses(case):
-    """The keys through which ``case`` uses the shear component or friction
-    (the first key of each table that does)."""
-    used = [f"body[{i}] ({b.name}).{'Vs' if isinstance(b.G, ShearModulus) else 'G'}"
-            for i, b in enumerate(case.bodies) if b.has_shear]
-    used += [f"contact[{k}].friction" for k, c in enumerate(case.contacts)
-             if c.friction is not None]
-    used += [f"bc[{k}].component" for k, b in enumerate(case.bcs) if b.component == "shear"]
-    return used

@@ -33,8 +33,8 @@ closes), and its terms in the slab equations of node k are c_k f^a(y):
 - ``finish_slab(t0, dt)``: after convergence (the last ``force`` call was at
   the converged coordinates): update its state and what it reports;
 - ``work_terms(w)`` (optional): how the slab's work w = f . y it took
-  splits over the energy terms, ((key, value), ...); default all of it to
-  ``energy_key``;
+  splits over the energy terms ``energy_keys``, ((key, value), ...);
+  default all of it to ``energy_key``;
 - ``static(u)``: (residual, tangent) on its nodes for the static initial
   state; ``static_limit(u)``: a line naming the law's key when it cannot
   carry its share of the static load (None: it can).

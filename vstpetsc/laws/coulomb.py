@@ -56,7 +56,8 @@ e_end - e_n = dt int_pieces s - slip (kinematics).  A start stretch beyond
 the limit at theta = 0 is projected onto it: rounding of the previous
 slab's end with the power penalty (N continuous in time); with the seed's
 slab-mean N, which jumps between slabs, the projection releases
-k_t (e_n^2 - e^2) / 2 outside D, which whoever calls this must book.
+k_t (e_n^2 - e^2) / 2 outside D (returned as ``released``), which whoever
+calls this must book.
 """
 
 from typing import NamedTuple
@@ -76,6 +77,7 @@ class FrictionSlab(NamedTuple):
     stretch: float      # e at the slab's end
     slip: float         # slip accumulated in contact over the slab
     dissipation: float  # int mu N |slip rate| dt >= 0
+    released: float     # k_t (e_n^2 - e^2) / 2 of the projection of e_n onto the start limit
 
 
 def penalty_normal(a0, a1, a2, k):
@@ -137,13 +139,14 @@ def friction_integrals(e_n, s1, s2, dt, k_t, mu, normal, pieces):
     slab = _Slab(s1, s2, dt, k_t, mu, normal)
     start_limit = mu * slab.n0 / k_t if pieces and pieces[0][0] == 0.0 else 0.0
     e = max(-start_limit, min(start_limit, e_n))
+    released = 0.5 * k_t * (e_n * e_n - e * e)
     for p, q in pieces:
         if p > 0.0:
             e = 0.0                 # the gap was open just before p
         e = _piece(slab, e, p, q)
     if not pieces or pieces[-1][1] < 1.0:
         e = 0.0                     # open at the slab's end
-    return FrictionSlab(*slab.out, e, slab.slip, slab.dissipation)
+    return FrictionSlab(*slab.out, e, slab.slip, slab.dissipation, released)
 
 
 def _piece(slab, e, p, q):

@@ -45,6 +45,7 @@ class CoulombFriction(Law):
     """Friction of pair ``index`` (``pair``: its normal law)."""
 
     energy_key = "friction"
+    energy_keys = ("friction", "wall", "contact")      # work_terms' keys
     series = SERIES
 
     def __init__(self, spec, index, case, mesh, pair):
@@ -67,7 +68,7 @@ class CoulombFriction(Law):
                       if b is not None], case.dt, BETA)
         self.stretch = self.slip = self.mean_force = 0.0
         self.wall_v = (0.0, 0.0)
-        self.last = None        # (FrictionSlab, stretch at its start) of the last force()
+        self.last = None        # the FrictionSlab of the last force()
 
     def start_slab(self, u, dt):
         """Nothing: the stretch carries the spring's state across slabs."""
@@ -90,25 +91,19 @@ class CoulombFriction(Law):
         c, (v1, v2) = self.wall_sign, self.wall_v
         slab = friction_integrals(self.stretch, -(y1 + c * v1), -(y2 + c * v2), self.dt,
                                   self.stiffness, self.mu, coefficients, pieces)
-        self.last = (slab, self._start_stretch(coefficients, pieces))
+        self.last = slab
         return (slab.f1, slab.f2, -slab.d11, -slab.d12, -slab.d21, -slab.d22)
-
-    def _start_stretch(self, coefficients, pieces):
-        """The stretch the kernel starts from: this slab's start stretch
-        within the limit mu N(0) / k_t (0 when the gap is open at t^n)."""
-        limit = self.mu * coefficients[0] / self.stiffness if pieces[0][0] == 0.0 else 0.0
-        return max(-limit, min(limit, self.stretch))
 
     def work_terms(self, work):
         """((energy key, value), ...) of the slab's work f . y."""
         if self.last is None:
             return (("contact", work),)
-        slab, start = self.last
+        slab = self.last
         c, (v1, v2) = self.wall_sign, self.wall_v
         wall = c * (slab.f1 * v1 + slab.f2 * v2)
         # a start stretch beyond the limit (the seed's slab-mean N jumps
         # between slabs) releases its excess: dissipated, not stored
-        dissipated = slab.dissipation + 0.5 * self.stiffness * (self.stretch ** 2 - start ** 2)
+        dissipated = slab.dissipation + slab.released
         return (("friction", dissipated), ("wall", wall),
                 ("contact", work - dissipated + wall))
 
@@ -116,7 +111,7 @@ class CoulombFriction(Law):
         if self.last is None:
             self.stretch = self.mean_force = 0.0
             return
-        slab = self.last[0]
+        slab = self.last
         self.stretch = slab.stretch
         self.slip += slab.slip
         self.mean_force = (slab.f1 + slab.f2) / dt

@@ -38,12 +38,11 @@ class LawSolver:
         self.acted = False
         # f . y the laws took, summed per energy term ("contact", "soil")
         self.keys = [getattr(law, "energy_key", "contact") for law in self.laws.laws]
-        self.work = dict.fromkeys(["contact", *self.keys], 0.0)
         # laws whose work goes to several terms (friction: dissipated,
-        # stored, the wall's)
+        # stored, the wall's), named by their energy_keys
         self.splits = [getattr(law, "work_terms", None) for law in self.laws.laws]
-        if any(self.splits):
-            self.work.update(dict.fromkeys(["friction", "wall"], 0.0))
+        split_keys = [k for law in self.laws.laws for k in getattr(law, "energy_keys", ())]
+        self.work = dict.fromkeys(["contact", *self.keys, *split_keys], 0.0)
         # laws whose work on one of their nodes is reported ("transferred")
         self.heads = [(j, -law.signs[law.transfer_node],
                        int(self.laws.node_index[j][law.transfer_node]))
