@@ -8,7 +8,7 @@ import numpy as np
 
 from vstpetsc import model as model_mod
 
-SUMMED = ("damping", "external", "contact", "soil", "transferred", "friction")
+SUMMED = ("damping", "external", "contact", "soil", "transferred", "friction", "hysteretic")
 # the solver's global running sums; "wall": a moving wall's work through
 # friction, a part of "external"
 SUMS = ("damping", "contact", "soil", "transferred", "friction", "wall")
@@ -17,7 +17,9 @@ HELD = ("kinetic", "strain", "spring")       # the energy the bodies hold
 KEYS = HELD + SUMMED + ("numerical",)
 # "transferred": the work of a cushion on the pile head (pile driving), an
 # exchange between bodies, not a term of the balance; "friction": the
-# energy dissipated by sliding
+# energy dissipated by sliding; "hysteretic": by a soil's Masing loops
+# (its elements hold A h tau^2 / (2 G), counted in "strain"; the solver
+# reports both, the sum of the loops' work kept with the soil's own state)
 
 
 class EnergyBook:
@@ -28,6 +30,7 @@ class EnergyBook:
         self.initial = 0.0              # the balance's start: state + stored contact energy
         self.held0 = 0.0                # kinetic + strain + spring at t = 0
         self.offset = dict.fromkeys(SUMMED, 0.0)
+        self.beyond0 = 0.0      # a soil's strain energy beyond 1/2 u^T K u at t = 0
         ops = model.ops
         self.m_diag, self.m_off = ops.m_diag, ops.m_off
         self.stiffness = -ops.k_off              # E A / h of the node pairs (0 between bodies)
@@ -62,7 +65,11 @@ class EnergyBook:
         stored = sum(law.stored_energy(u) for law in self.model.recorded
                      if hasattr(law, "stored_energy"))
         self.offset["contact"] = stored
-        self.held0 = sum(self.state(u, v).values())
+        soil = self.model.soil
+        if soil is not None:
+            soil.start(u)
+            self.beyond0 = soil.stored_beyond_linear()
+        self.held0 = sum(self.state(u, v).values()) + self.beyond0
         self.initial = self.held0 + stored
 
     def restore(self, first, last, continued=False):
@@ -78,16 +85,19 @@ class EnergyBook:
             self.offset = dict.fromkeys(SUMMED, 0.0)
             self.offset["contact"] = float(first["contact"])
         else:
-            self.offset = {k: float(last[k]) for k in SUMMED}
+            self.offset = {k: float(last.get(k, 0.0)) for k in SUMMED}
+        # the soil's loops are summed with its own state (restored with it)
+        self.offset["hysteretic"] = 0.0
 
     def row(self, u, v, totals, d=None, known=None):
         """{energy dataset: value} for the state (u, v) (d, known: see
         :meth:`state`) and the solver's sums ``totals`` since this run
         started."""
         out = self.state(u, v, d, known)
+        out["strain"] += totals.get("strain_beyond_linear", self.beyond0)
         for key in SUMMED:
             out[key] = self.offset[key] + totals.get(key, 0.0)
         held = (out["kinetic"] + out["strain"] + out["spring"] + out["damping"]
-                + out["contact"] + out["soil"] + out["friction"])
+                + out["contact"] + out["soil"] + out["friction"] + out["hysteretic"])
         out["numerical"] = self.initial + out["external"] - held
         return out

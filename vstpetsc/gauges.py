@@ -53,13 +53,14 @@ class Gauges:
         self.channels = [(g.name, "", g.body, g.x) for g in specs]
         self.channels += [(g.name, SHEAR, mesh.twins[g.body], g.x) for g in specs
                           if g.body in mesh.twins]
-        left, w, factor, inv_h = [], [], [], []
+        left, w, factor, inv_h, els = [], [], [], [], []
         for _, _, body, x in self.channels:
             nodes, elements = mesh.nodes(body), mesh.elements(body)
             e, weight = element_at(mesh.x[nodes], x)
             left.append(nodes.start + e)
             w.append(weight)
             el = elements.start + e
+            els.append(el)
             factor.append(mesh.E[el] / mesh.h[el])
             inv_h.append(1.0 / mesh.h[el])
         left = np.asarray(left, dtype=int)
@@ -68,6 +69,12 @@ class Gauges:
         self.rpos = np.searchsorted(self.nodes, left + 1)
         self.w = np.asarray(w)
         self.factor, self.inv_h = np.asarray(factor), np.asarray(inv_h)
+        # channels on a hysteretic soil read its stress (not G dw/dx)
+        self.soil = model.soil
+        governed = self.soil.elements if self.soil is not None else np.zeros(0, dtype=int)
+        els = np.asarray(els, dtype=int)
+        self.soil_channels = np.flatnonzero(np.isin(els, governed))
+        self.soil_pos = np.searchsorted(governed, els[self.soil_channels])
 
     def __len__(self):
         """The number of channels (a gauge on a body with a shear component
@@ -92,6 +99,8 @@ class Gauges:
         d = u[self.rpos] - u[self.lpos]
         np.multiply(d, self.factor, out=out[2])
         np.multiply(d, self.inv_h, out=out[3])
+        if self.soil_channels.size:
+            out[2][self.soil_channels] = self.soil.stress[self.soil_pos]
 
     def attrs(self):
         """{group: attributes} of every gauge."""

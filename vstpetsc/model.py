@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vstpetsc import materials
 from vstpetsc.laws import build_laws
 from vstpetsc.schema import MASSES
 from vstpetsc.shear import field_bodies
@@ -124,6 +125,7 @@ class Model:
     ops: Operators
     laws: list
     bodies: list
+    soil: object = None        # the shear field's hysteretic law (vstpetsc.materials)
 
     @property
     def nonlinear(self):
@@ -143,7 +145,7 @@ def build_model(case):
     laws = build_laws(case, mesh)
     for law in laws:
         law.add_operators(ops)
-    return Model(case, mesh, ops, laws, bodies)
+    return Model(case, mesh, ops, laws, bodies, materials.build(case.bodies, mesh))
 
 
 def build_mesh(bodies, axial=None, twins=None):

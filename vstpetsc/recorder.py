@@ -107,6 +107,8 @@ class Recorder:
             out[layout.RHS_STATE] = b
             out[layout.NEWTON_STATE] = self.solver.nonlinear.state()
             out[layout.ENERGY_STATE] = sums
+            if self.model.soil is not None:
+                out[layout.SOIL_STATE] = self.model.soil.snapshot()
         return out
 
     def gauge_row(self):

@@ -8,7 +8,7 @@ registries of :mod:`vstpetsc.laws`.  Nothing here imports PETSc.
 
 from dataclasses import dataclass, field
 
-from vstpetsc import laws, shear
+from vstpetsc import laws, materials, shear
 from vstpetsc.checker import MISSING, Checker, is_number, show
 from vstpetsc.errors import CaseError
 from vstpetsc.history import History
@@ -19,7 +19,7 @@ UNITS = {"length": "m", "time": "s", "mass": "kg"}
 TOP = ("time", "output", "body", "contact", "bc", "units", "gravity", "gauge", "soil")
 GAUGE_KEYS = ("name", "body", "x")
 BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0", "damping", "foundation",
-             "mass") + shear.BODY_KEYS
+             "mass") + shear.BODY_KEYS + materials.BODY_KEYS
 # the element mass matrix rho A h / 12 [[6 - o, o], [o, 6 - o]] by its off-diagonal o
 MASSES = {"consistent": 2.0, "averaged": 1.0, "lumped": 0.0}
 DEFAULT_MASS = "averaged"
@@ -52,6 +52,7 @@ class Body:
     G: object = None
     v0_shear: History | None = None
     u0_shear: History | None = None
+    shear_law: list | None = None
 
     @property
     def has_shear(self):
@@ -270,9 +271,10 @@ def _body(chk, tbl, i, names):
                          choices=tuple(MASSES)))
     sheared = shear.read_body(chk, tbl, where, rho,
                               lambda key: _material(chk, tbl, where, key, x, None))
-    if sheared is None or any(f is None for f in fields):
+    law = materials.read(chk, tbl, where, x, sheared is not None and sheared[0] is not None)
+    if sheared is None or law is False or any(f is None for f in fields):
         return name, None
-    return name, Body(*fields, *sheared)
+    return name, Body(*fields, *sheared, shear_law=law)
 
 
 def _material(chk, tbl, where, key, x, default):

@@ -125,7 +125,7 @@ def shear_twin(body):
     """The body that carries ``body``'s shear motion in the mesh."""
     return dataclasses.replace(body, name=body.name + SUFFIX, E=body.G,
                                v0=body.v0_shear or History(), u0=body.u0_shear or History(),
-                               G=None, v0_shear=None, u0_shear=None)
+                               G=None, v0_shear=None, u0_shear=None, shear_law=None)
 
 
 def field_bodies(bodies):

@@ -24,6 +24,7 @@ from vstpetsc.errors import SolveFailed
 from vstpetsc.loading import SlabLoads
 from vstpetsc.native.closing import SlabClose
 from vstpetsc.petsc.fields import FieldTerms
+from vstpetsc.petsc import material_newton
 from vstpetsc.petsc.law_solver import LawSolver
 from vstpetsc.petsc.linear import LinearSolver
 from vstpetsc.petsc.matrices import block_matrix
@@ -92,11 +93,13 @@ class SlabSolver:
         self.end = SlabClose.of(self, ops, options.native) or SlabEnd(self, ops)
         self.nonlinear = LawSolver(model, options, self)
         self.laws = self.nonlinear.laws
+        self.material = material_newton.of(model, self, options, loads.fixed_nodes)
         self.work = {"damping": 0.0}       # sums, the same on every rank
         self.local_work = 0.0          # this rank's share of the external work
 
     def describe(self):
-        return self.linear.describe() + self.nonlinear.describe()
+        soil = "" if self.material is None else self.material.describe()
+        return self.linear.describe() + self.nonlinear.describe() + soil
 
     def rhs(self, forces, velocities, fields):
         """Add the slab's nodal force integrals and body forces to the
@@ -136,6 +139,8 @@ class SlabSolver:
         count = self.linear.count
         self.linear.solve(self.b, self.X, slab_index)
         newton = 0
+        if self.material is not None:
+            newton = self.material.solve(self.X, self.b, slab_index)
         if self.nonlinear.active:
             newton = self.nonlinear.solve(self.X, self.b, self.dt, slab_index)
         if not self.linear.finite(self.X, self.x):
@@ -158,6 +163,8 @@ class SlabSolver:
             self.reactions.carry_after(arr)
         if self.nonlinear.active:
             self.nonlinear.advance(self.X, self.b)
+        if self.material is not None:
+            self.material.advance(self.b)
 
     def _slab_work(self):
         """Dashpots and external forces over the slab (the laws' share is
@@ -176,10 +183,16 @@ class SlabSolver:
 
     def totals(self):
         """The summed energy terms over every rank (collective)."""
-        laws = self.nonlinear.work
-        # a moving wall's work through friction is external, the same on every rank
+        laws = dict(self.nonlinear.work)
+        # a moving wall's work through friction is external, the same on every
+        # rank, and so is the work of supports against a soil's stress
+        beyond = laws.get("wall", 0.0)
+        if self.material is not None:
+            soil = self.material.soil
+            laws["strain_beyond_linear"], laws["hysteretic"] = soil.energies()
+            beyond += soil.support_work
         return {**self.work, **laws,
-                "external": self.space.sum_over_ranks(self.local_work) + laws.get("wall", 0.0)}
+                "external": self.space.sum_over_ranks(self.local_work) + beyond}
 
     def set_state(self, u, v, envelope=None):
         """Start from displacements u and velocities v (global node arrays):
@@ -193,6 +206,8 @@ class SlabSolver:
         self.u[:] = u[n0:n1]
         self._loads = None
         self.nonlinear.set_state(u)
+        if self.material is not None:
+            self.material.soil.start(u)
         self.u_ghost = float(u[n1]) if self.envelope.ghost else 0.0
         el = self.envelope.elements
         restored = None if envelope is None else (envelope[0][el], envelope[1][el])
@@ -203,7 +218,7 @@ class SlabSolver:
         (a global array), the Newton state of the last slab and the energy
         sums of energy_sums() ({layout name: array}, from the file), after
         set_state: the restart is then bit for bit."""
-        from vstpetsc.results.layout import ENERGY_STATE, NEWTON_STATE, RHS_STATE
+        from vstpetsc.results.layout import ENERGY_STATE, NEWTON_STATE, RHS_STATE, SOIL_STATE
 
         n0, n1 = self.space.nodes
         if RHS_STATE in state:
@@ -212,6 +227,8 @@ class SlabSolver:
             self.nonlinear.set_newton_state(state[NEWTON_STATE])
         if ENERGY_STATE in state:
             self._restore_sums(state[ENERGY_STATE])
+        if SOIL_STATE in state and self.material is not None:
+            self.material.soil.restore(state[SOIL_STATE])
 
     def energy_sums(self):
         """The running sums of the energy terms (energy.SUMS order), then

@@ -35,7 +35,10 @@ NEWTON_STATE = "solver/newton_state"    # [acted, the laws' terms f] of the last
 # share of the external work): a restart continues the sums, not from the
 # rounded totals of the rows, so its energies are those of one run
 ENERGY_STATE = "solver/energy_sums"
-RESTART_STATE = (RHS_STATE, NEWTON_STATE, ENERGY_STATE)
+# a hysteretic soil's state (vstpetsc.materials.soil: strains, stresses,
+# reversal points, envelopes, the loops' work)
+SOIL_STATE = "solver/soil_state"
+RESTART_STATE = (RHS_STATE, NEWTON_STATE, ENERGY_STATE, SOIL_STATE)
 REQUIRED = ("time", "body", "contact", "energy", "solver")
 # root attributes: the rows (kept, and gauge rows) complete in every
 # dataset, set after each block is on disk; readers of a running file read
@@ -115,12 +118,20 @@ def formulation(model):
 def envelope_snapshots(model, lo, hi):
     """{dataset name: array}: the stress envelopes of every body from the
     elongation envelopes (lo, hi) of all elements, and those."""
-    factor = model.mesh.E / model.mesh.h
+    mesh = model.mesh
+    factor = mesh.E / mesh.h
     out = {ELONGATION[0]: lo, ELONGATION[1]: hi}
+    smin, smax = lo * factor, hi * factor
+    soil = model.soil
+    if soil is not None:            # a hysteretic soil's own stress envelopes
+        smin[soil.elements], smax[soil.elements] = soil.tau_min, soil.tau_max
+    strain_max = np.maximum(np.abs(lo), np.abs(hi)) / mesh.h
     for b, body in enumerate(model.bodies):
-        el = model.mesh.elements(b)
-        out[body_path(body.name, "stress_min")] = lo[el] * factor[el]
-        out[body_path(body.name, "stress_max")] = hi[el] * factor[el]
+        el = mesh.elements(b)
+        out[body_path(body.name, "stress_min")] = smin[el]
+        out[body_path(body.name, "stress_max")] = smax[el]
+        if b >= len(model.case.bodies):          # a shear twin
+            out[body_path(body.name, "strain_max")] = strain_max[el]
     return out
 
 
@@ -154,6 +165,8 @@ class RowFiller:
         self.energy = [(f"energy/{key}", key) for key in energy_mod.KEYS]
         self.d = None                   # u_{i+1} - u_i when the solver has none
         self.nnodes = mesh.nnodes
+        self.soil = _soil_rows(model)
+        self._soil = model.soil
         self.series = series(model)
         self._buffers = self._state = None
         self._copier = self._copier_buffers = None
@@ -164,6 +177,8 @@ class RowFiller:
         these arrays (the solver's own, on one rank) with the copier that
         ``copier_of([(values, factor or None)])`` makes (bind, post;
         :class:`vstpetsc.native.rows.RowCopier`) instead of numpy."""
+        if self.soil:               # the soil's stress overwrites the row's
+            return
         sources = []
         for _, _, _, nodes, pairs, factor in self.bodies:
             sources += [(u[nodes], None), (v[nodes], None),
@@ -216,6 +231,8 @@ class RowFiller:
                 bu[i] = vu
                 bv[i] = vv
                 np.multiply(vd, factor, out=bs[i])
+        for name, where, pos in self.soil:
+            buffers[name][i][where] = self._soil.stress[pos]
         for law, targets in self._laws:
             values = law.values(u)
             for target, key in targets:
@@ -234,6 +251,21 @@ class RowFiller:
         out = {name: np.zeros((1,) + tail) for name, tail in self.series}
         self.fill(out, 0, k, u, v, its, wall, energy, d)
         return {name: value[0] for name, value in out.items()}
+
+
+def _soil_rows(model):
+    """[(stress dataset, its columns, positions in the soil's elements)] of
+    the bodies a hysteretic soil governs."""
+    soil, mesh, out = model.soil, model.mesh, []
+    if soil is None:
+        return out
+    for b, body in enumerate(model.bodies):
+        el = mesh.elements(b)
+        inside = (soil.elements >= el.start) & (soil.elements < el.stop)
+        if inside.any():
+            out.append((body_path(body.name, "stress"), soil.elements[inside] - el.start,
+                        np.flatnonzero(inside)))
+    return out
 
 
 def last_state(f, model):

@@ -1,0 +1,59 @@
+"""Material laws of the shear field (docs/nonlinear-soil.md): a body's
+``shear_law`` makes the stress of its shear twin's elements a nonlinear,
+hysteretic function of the strain.  The protocol beside the boundary laws:
+
+| member | what |
+|---|---|
+| ``elements`` | the mesh elements it governs |
+| ``slab(D1, D2, dt, tangent)`` | correction integrals Q (ne, 2), dQ/dD (ne, 2, 2) |
+| ``finish()`` | take the last evaluated slab as converged |
+| ``stress``, ``strain`` | at the last slab end, per element |
+
+Only the registry here knows the models by name; nothing imports PETSc.
+"""
+
+from vstpetsc.checker import show
+from vstpetsc.materials import mkz
+
+MODELS = {mkz.NAME: mkz}
+BODY_KEYS = ("shear_law",)
+
+
+def read(chk, tbl, where, x, has_shear):
+    """A body's ``shear_law``: None when absent, else a list of parts (a
+    single table is a list of one); False after reporting."""
+    if "shear_law" not in tbl:
+        return None
+    name = f"{where}.shear_law"
+    value = tbl["shear_law"]
+    tables = [value] if isinstance(value, dict) else value
+    if not isinstance(tables, list) or not tables or \
+            not all(isinstance(t, dict) for t in tables):
+        chk.add(name, mkz.describe(value))
+        return False
+    if not has_shear:
+        chk.add(name, "only for a body with a shear component (give it G or Vs)")
+        return False
+    parts = []
+    for i, tbl_i in enumerate(tables):
+        where_i = name if isinstance(value, dict) else f"{name}[{i}]"
+        model = tbl_i.get("model")
+        if model not in MODELS:
+            chk.add(f"{where_i}.model", f"must be one of {', '.join(map(repr, MODELS))}, "
+                    f"got {show(model) if model is not None else 'nothing'}")
+            return False
+        parts.append(MODELS[model].read_part(chk, tbl_i, where_i, x))
+    return False if None in parts else parts
+
+
+def build(model_bodies, mesh):
+    """The shear field's material law of the mesh (None when no body has
+    one)."""
+    from vstpetsc.materials.soil import HystereticSoil
+
+    parts = {}
+    for axial, twin in mesh.twins.items():
+        law = getattr(model_bodies[axial], "shear_law", None)
+        if law:
+            parts[twin] = law
+    return HystereticSoil.of(parts, mesh) if parts else None

@@ -1,0 +1,218 @@
+"""Newton on the whole slab for a hysteretic shear field (docs/nonlinear-soil.md).
+
+With the soil's stress beyond the linear one as internal forces r(X) (the
+Gauss sums of :func:`vstpetsc.materials.masing.slab_integrals`), the slab
+equations are
+
+    F(X) = A X - b + W r(V X) = 0,   J = A + W (dr/dv) V,
+
+A the linear slab matrix (its factors are computed once per run).  A SNES
+(prefix ``vst_``, every ``-snes_*`` option) solves them; each Newton step
+is a KSP (prefix ``vst_newton_``) on J, a shell, preconditioned by A's
+factors: GMRES by default (a few iterations: the soil softens J away from A
+only by its tangent), ``-newton_ksp_type preonly`` for modified Newton (one
+application of A's factors per step).  ``-vst_fd_jacobian`` replaces the
+tangent by central differences of r along the Krylov direction.
+
+Every rank gathers the soil's nodes and evaluates every soil element (the
+state is the same on every rank).
+"""
+
+import math
+
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc.petsc.newton import solve_checked
+from vstpetsc.petsc.options import PREFIX
+from vstpetsc.petsc.space import DofGather
+
+
+class SoilCoupling:
+    """The soil's nodes in the solver's space: from the unknowns X to the
+    elements' strain increments D (ne, 2), and element forces back to rows."""
+
+    def __init__(self, soil, solver, fixed_nodes):
+        self.soil, self.dt = soil, solver.dt
+        nodes = soil.nodes
+        # rows of prescribed velocities are identities in A: no force there
+        self.free = (~np.isin(nodes, fixed_nodes)).astype(float)[:, None]
+        dofs = (2 * nodes[:, None] + np.arange(2)).ravel()
+        self.gather = DofGather(solver.X, dofs, solver.space.nodes)
+        self.left = np.searchsorted(nodes, soil.left)
+        self.n = nodes.size
+        self.V, self.W = solver.V, solver.W
+        self.scale = self.dt / soil.h            # D_b = dt (v_r^b - v_l^b) / h
+
+    def increments(self, values):
+        """(D1, D2) from the gathered unknowns (n dofs pairs, z basis)."""
+        v = values.reshape(-1, 2) @ self.V.T
+        d = v[self.left + 1] - v[self.left]
+        return d[:, 0] * self.scale, d[:, 1] * self.scale
+
+    def node_forces(self, element_forces):
+        """Per node (n, 2), velocity basis, from per-element (ne, 2) forces
+        on the right node (the left node takes their negative)."""
+        rows = np.zeros((self.n, 2))
+        np.add.at(rows, self.left, -element_forces)
+        np.add.at(rows, self.left + 1, element_forces)
+        return rows
+
+    def rows(self, element_forces):
+        """W-mixed rows of the free nodes, in gathered order."""
+        return ((self.node_forces(element_forces) * self.free) @ self.W.T).ravel()
+
+    def support_work(self, element_forces, values):
+        """The work of the supports that hold prescribed nodes against these
+        forces over the slab: sum_a f^a v^a at those nodes (the reactions of
+        the linear rows do not see them)."""
+        held = 1.0 - self.free
+        if not held.any():
+            return 0.0
+        v = values.reshape(-1, 2) @ self.V.T
+        return float(np.sum(self.node_forces(element_forces) * held * v))
+
+
+class MaterialNewton:
+    """The SNES of slabs with a hysteretic soil."""
+
+    def __init__(self, soil, solver, fixed_nodes, fd_jacobian=False):
+        self.soil, self.c = soil, SoilCoupling(soil, solver, fixed_nodes)
+        self.A, self.linear, self.dt = solver.A, solver.linear, solver.dt
+        self.fd_jacobian = fd_jacobian
+        self.carry = np.kron(np.eye(self.c.n), solver.carry)
+        self.F = solver.X.duplicate()
+        self.work_vec = solver.X.duplicate()
+        J = PETSc.Mat().createPython(self.A.getSizes(), context=_Tangent(self),
+                                     comm=solver.space.comm)
+        J.setUp()
+        self.J = J
+        self.snes = self._snes(solver.space)
+        self.rows = np.zeros(2 * self.c.n)          # the converged slab's W r
+        self.dQ = None
+        self.iterations = 0
+
+    def _snes(self, space):
+        snes = PETSc.SNES().create(comm=space.comm)
+        snes.setOptionsPrefix(PREFIX)
+        snes.setDM(space.da)
+        snes.setType("newtonls")
+        snes.setFunction(self.formFunction, self.F)
+        snes.setJacobian(self.formJacobian, self.J, self.J)
+        snes.setTolerances(rtol=1e-12, atol=1e-50, stol=1e-14, max_it=50)
+        snes.setConvergenceTest(self._converged)
+        ksp = snes.getKSP()
+        ksp.appendOptionsPrefix("newton_")
+        ksp.setType("gmres")
+        ksp.setTolerances(rtol=1e-10, atol=1e-50, max_it=100)
+        ksp.getPC().setType("python")
+        ksp.getPC().setPythonContext(_Factors(self))
+        snes.setFromOptions()
+        return snes
+
+    def _converged(self, snes, it, norms):
+        """|F| <= max(atol, rtol (|b| + |W r|)): a relative decrease alone
+        cannot be met when the start is already near the root."""
+        rtol, atol, _, max_it = snes.getTolerances()
+        fnorm = norms[2]
+        R = snes.ConvergedReason
+        if not math.isfinite(fnorm):
+            return R.DIVERGED_FNORM_NAN
+        if fnorm <= max(atol, rtol * (self.b_norm + np.linalg.norm(self.last_rows))):
+            return R.CONVERGED_FNORM_ABS if fnorm <= atol else R.CONVERGED_FNORM_RELATIVE
+        return R.DIVERGED_MAX_IT if it >= max_it else R.ITERATING
+
+    def residual_rows(self, X, tangent):
+        """W r(X) in gathered order (and dQ/dD kept when ``tangent``)."""
+        D1, D2 = self.c.increments(self.c.gather(X))
+        Q, dQ = self.soil.slab(D1, D2, self.dt, tangent)
+        if tangent:
+            self.dQ = dQ
+        return self.c.rows(Q)
+
+    def formFunction(self, snes, X, F):
+        self.A.mult(X, F)
+        F.axpy(-1.0, self.b)
+        self.last_rows = self.residual_rows(X, not self.fd_jacobian)
+        self.c.gather.add_rows(F, self.last_rows)
+        self.X_at = X
+
+    def formJacobian(self, snes, X, J, P):
+        if self.fd_jacobian:
+            self.X_at = X.copy()
+            self.h = 1e-7 * max(1.0, X.norm(PETSc.NormType.INFINITY))
+
+    def solve(self, X, b, slab_index):
+        """Newton from X (A^{-1} b): X becomes the slab's solution; the
+        soil's state moves to the slab end.  Returns the iterations."""
+        self.b = b
+        self.b_norm = b.norm()
+        self.last_rows = np.zeros(2 * self.c.n)
+        self.iterations = solve_checked(self.snes, X, slab_index)
+        values = self.c.gather(X)
+        D1, D2 = self.c.increments(values)
+        Q, _ = self.soil.slab(D1, D2, self.dt, tangent=False)
+        self.rows = self.c.rows(Q)
+        self.soil.support_work += self.c.support_work(Q, values)
+        self.soil.finish(D1, D2, self.dt)
+        return self.iterations
+
+    def advance(self, b):
+        """The converged forces carried over in the running sum (as the
+        laws' terms: b += W (T - I) W^{-1} (W r))."""
+        self.c.gather.add_rows(b, self.carry @ self.rows)
+
+    def describe(self):
+        kind = self.snes.getKSP().getType()
+        return f"; soil: SNES {self.snes.getType()} on all unknowns, steps by " \
+               f"{'modified Newton (A factors)' if kind == 'preonly' else kind + ' on A factors'}"
+
+
+class _Tangent:
+    """y = J x = A x + W (dr/dv) V x, from the element tangents dQ/dD of the
+    last function evaluation (or central differences of r)."""
+
+    def __init__(self, newton):
+        self.n = newton
+
+    def mult(self, mat, x, y):
+        n, c = self.n, self.n.c
+        n.A.mult(x, y)
+        if n.fd_jacobian:
+            c.gather.add_rows(y, self._fd(x))
+            return
+        D1, D2 = c.increments(c.gather(x))
+        forces = np.einsum("eab,eb->ea", n.dQ, np.column_stack([D1, D2]))
+        c.gather.add_rows(y, c.rows(forces))
+
+    def _fd(self, x):
+        n = self.n
+        h = n.h / max(1e-300, x.norm(PETSc.NormType.INFINITY))
+        out = []
+        for sign in (1.0, -1.0):
+            n.X_at.copy(n.work_vec)
+            n.work_vec.axpy(sign * h, x)
+            out.append(n.residual_rows(n.work_vec, False))
+        return (out[0] - out[1]) / (2.0 * h)
+
+
+class _Factors:
+    """The preconditioner: one application of A's factors."""
+
+    def __init__(self, newton):
+        self.n = newton
+
+    def apply(self, pc, r, y):
+        self.n.linear.solve(r, y)
+
+
+def of(model, solver, options, fixed_nodes):
+    """The Newton of ``model``'s soil, or None without one."""
+    soil = getattr(model, "soil", None)
+    if soil is None:
+        return None
+    if model.nonlinear:
+        from vstpetsc.errors import InputError
+        raise InputError("body.shear_law: a hysteretic soil together with contact, friction "
+                         "or soil-spring laws in one case is not supported yet")
+    return MaterialNewton(soil, solver, fixed_nodes, options.fd_jacobian)
