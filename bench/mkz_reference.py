@@ -78,7 +78,31 @@ v_in v_0 dt, or int R v_b dt) by the trapezoidal rule on the step values.
 energy_residual() = kinetic + internal work + dashpot - input - initial
 energy: leapfrog's exact half-step identity makes it an O(dt^2) boundary
 term (it does not accumulate), measured in tests/test_mkz_reference.py.
-Optionally the strain and stress histories of chosen elements.
+Optionally the strain and stress histories of chosen elements
+(record=...): their stress is exactly masing_stress(their strain).
+response_spectrum(t, a, periods, damping) gives pseudo-spectral
+accelerations of a sampled record (each oscillator integrated exactly for
+an acceleration linear between samples).
+
+What is measured (tests/test_mkz_reference.py): a symmetric strain cycle
+through MasingPoint gives the closed-form D within 1e-3 at 0.2, 2 and 20
+gamma_ref, and the closed form and the loop quadrature agree to 1e-9; an
+inner unload-reload rejoins the outer branch exactly (to 1e-12) and the
+backbone beyond it; a linear column moves in the lumped chain's exact
+first mode (to 1e-12), matches d'Alembert's solution on a rigid and on a
+matched Lysmer base at order h^2 (dt = 0.5 h / Vs) and the Lysmer base
+lets the wave out; the energy residual of a layered MKZ column (peak
+strain > 1.5 gamma_ref, a third to all of the input dissipated by
+hysteresis) falls by 4.0 per halving of dt; the surface's peak velocity
+and 5 % spectrum (0.1 to 1 s) converge under mesh refinement (1.5 % and
+less between h = 1.25 and 0.625 m). The raw peak surface acceleration
+converges at order 2 for a linear column only: after the Masing reversals
+a nonlinear run carries grid-scale ringing (near the chain's highest
+frequency 2 Vs / h) that this lossless scheme never damps, a few per cent
+of the peak acceleration, not shrinking with h (it moves to higher
+frequency); compare spectra, not peak accelerations, against a scheme
+with numerical dissipation. Cost: about 4 us per element and step (a
+100-element column over 20000 steps in about 8 s).
 """
 
 import math
@@ -100,7 +124,7 @@ class Mkz:
 
     def backbone(self, gamma):
         """F(gamma) for a float or an array."""
-        ratio = np.abs(gamma) / self.gamma_ref
+        ratio = abs(gamma) / self.gamma_ref      # abs: fast on floats, also arrays
         return self.G * gamma / (1.0 + self.beta * ratio ** self.s)
 
 
