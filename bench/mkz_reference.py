@@ -441,10 +441,14 @@ def run_column(column, base, t_end, dt=None, courant=0.5, w0=None, record=()):
         if n + 1 < len(t):
             state.drift(dt, v_next)
     columns = dict(zip(_ROWS, rows.T))
-    trapezoid = lambda p: np.concatenate(([0.0], np.cumsum(0.5 * dt * (p[1:] + p[:-1]))))
     return ColumnRun(t=t, peak_strain=state.peak, dt=dt, x=column.x, strain=strain,
-                     stress=stress, input=trapezoid(columns.pop("input_power")),
-                     dashpot=trapezoid(columns.pop("dashpot_power")), **columns)
+                     stress=stress, input=_time_integral(columns.pop("input_power"), dt),
+                     dashpot=_time_integral(columns.pop("dashpot_power"), dt), **columns)
+
+
+def _time_integral(power, dt):
+    """The running trapezoidal integral of the step values."""
+    return np.concatenate(([0.0], np.cumsum(0.5 * dt * (power[1:] + power[:-1]))))
 
 
 # ---------------------------------------------------------------- spectra
