@@ -135,8 +135,8 @@ def _counts(chk, where, elements, layers):
                 f"not {elements}")
         return None
     if rest < len(free):
-        chk.add(f"{where}.elements", f"{elements} leaves {rest} for the {len(free)} "
-                "layers without their own elements (at least one each)")
+        chk.add(f"{where}.elements", f"{elements} is too few: the layers' own elements "
+                f"take {elements - rest} and each of the {len(free)} other layers needs one")
         return None
     counts = np.array([0 if n is None else n for n in own])
     if free:
