@@ -275,7 +275,8 @@ BAD_LAYERS = [
     ({"layers": layered({0: {"elements": 5}, 1: {"elements": 5}})},
      "body[0] (soil).elements: 6 is too few: the layers' own elements take 10 and each "
      "of the 1 other layers needs one"),
-    ({"layers": [dict(LAYERS[0]), dict(LAYERS[1], thickness=1e-20), dict(LAYERS[2], thickness=7.7)]},
+    ({"layers": [dict(LAYERS[0]), dict(LAYERS[1], thickness=1e-20),
+                 dict(LAYERS[2], thickness=7.7)]},
      "body[0] (soil).layers[1].thickness: too thin to place at the body's coordinates "
      "(rounds to no length)"),
     ({"layers": layered({1: {"E": 1e8, "Vp": 300.0}})},
