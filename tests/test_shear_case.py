@@ -209,7 +209,7 @@ def test_a_case_using_shear_runs_and_writes_its_datasets(tmp_path, flags):
     assert r.energy.friction.shape == (nt,)
     assert "shear" not in r.keys("body/bare")
     # a shear absorbing end: rho Vs A by default
-    assert f"bc: col/shear right end absorbing (impedance {RHO * VS:.6g})" in p.stdout
+    assert f"bc: col/shear right end absorbing (impedance {RHO * VS:.6g} = rho c A of the end element" in p.stdout
     info = cli("info", out)
     assert f"friction mu = 0.5: permanent slip {pair.slip[-1]:.6g}" in info.stdout
     assert "+ friction " in info.stdout                 # in the balance line

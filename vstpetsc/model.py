@@ -149,13 +149,14 @@ def build_model(case):
 
 
 def build_mesh(bodies, axial=None, twins=None):
-    """Every body meshed with its own number of equal linear elements;
-    material tables evaluated at the element midpoints.  The first
+    """Every body meshed with its own number of linear elements, equal
+    ones or each layer's (Body.node_x); material tables evaluated at the
+    element midpoints.  The first
     ``axial`` bodies (default all) are the axial field; ``twins`` maps
     them to their shear twins among the others."""
     counts = np.array([b.elements + 1 for b in bodies])
     first = np.concatenate(([0], np.cumsum(counts)))
-    x = np.concatenate([np.linspace(b.x[0], b.x[1], b.elements + 1) for b in bodies])
+    x = np.concatenate([b.node_x() for b in bodies])
     elem_body = np.repeat(np.arange(len(bodies)), [b.elements for b in bodies])
     elem_node = np.concatenate([np.arange(first[i], first[i + 1] - 1)
                                 for i in range(len(bodies))])

@@ -8,7 +8,7 @@ registries of :mod:`vstpetsc.laws`.  Nothing here imports PETSc.
 
 from dataclasses import dataclass, field
 
-from vstpetsc import laws, materials, shear
+from vstpetsc import laws, layers, materials, shear
 from vstpetsc.checker import MISSING, Checker, is_number, show
 from vstpetsc.errors import CaseError
 from vstpetsc.history import History
@@ -19,7 +19,7 @@ UNITS = {"length": "m", "time": "s", "mass": "kg"}
 TOP = ("time", "output", "body", "contact", "bc", "units", "gravity", "gauge", "soil")
 GAUGE_KEYS = ("name", "body", "x")
 BODY_KEYS = ("name", "x", "elements", "E", "rho", "area", "v0", "u0", "damping", "foundation",
-             "mass") + shear.BODY_KEYS + materials.BODY_KEYS
+             "mass", "layers") + shear.BODY_KEYS + materials.BODY_KEYS
 # the element mass matrix rho A h / 12 [[6 - o, o], [o, 6 - o]] by its off-diagonal o
 MASSES = {"consistent": 2.0, "averaged": 1.0, "lumped": 0.0}
 DEFAULT_MASS = "averaged"
@@ -36,7 +36,8 @@ class Body:
     C = alpha M + beta K, foundation = (stiffness, damping) per length.
     G, v0_shear, u0_shear: the shear component (issue 27; G a profile of x,
     :class:`vstpetsc.shear.ShearModulus` when Vs was given), all None for a
-    body without one."""
+    body without one.  cells: ((x_left, x_right, elements), ...) of a body
+    given by ``layers`` (:mod:`vstpetsc.layers`), () for equal elements."""
 
     name: str
     x: tuple
@@ -52,11 +53,16 @@ class Body:
     G: object = None
     v0_shear: History | None = None
     u0_shear: History | None = None
+    cells: tuple = ()
     shear_law: list | None = None
 
     @property
     def has_shear(self):
         return self.G is not None
+
+    def node_x(self):
+        """The body's node coordinates (a node on every layer boundary)."""
+        return layers.node_coordinates(self.x, self.elements, self.cells)
 
 
 @dataclass
@@ -261,20 +267,26 @@ def _body(chk, tbl, i, names):
     if ne is not None and ne > MAX_ELEMENTS:
         chk.add(f"{where}.elements", f"at most {MAX_ELEMENTS}, got {ne}")
         ne = None
-    E, rho, area = (_material(chk, tbl, where, key, x, default)
-                    for key, default in (("E", None), ("rho", None), ("area", 1.0)))
+    profile = layers.read(chk, tbl, where, x, ne) if "layers" in tbl else None
+    if "layers" in tbl:
+        E, rho = (None, None) if profile is None else (profile.E, profile.rho)
+    else:
+        E, rho = (_material(chk, tbl, where, key, x, None) for key in ("E", "rho"))
+    area = _material(chk, tbl, where, "area", x, 1.0)
     fields = (name, x, ne, E, rho, area,
               chk.history(tbl, "v0", where, "x"), chk.history(tbl, "u0", where, "x"),
               _pair_of(chk, tbl, "damping", where, ("alpha", "beta")),
               _pair_of(chk, tbl, "foundation", where, ("stiffness", "damping")),
               chk.string(tbl, "mass", where, required=False, default=DEFAULT_MASS,
                          choices=tuple(MASSES)))
-    sheared = shear.read_body(chk, tbl, where, rho,
-                              lambda key: _material(chk, tbl, where, key, x, None))
+    sheared = None if "layers" in tbl and profile is None else shear.read_body(
+        chk, tbl, where, rho, lambda key: _material(chk, tbl, where, key, x, None),
+        G=profile and profile.G)
     law = materials.read(chk, tbl, where, x, sheared is not None and sheared[0] is not None)
     if sheared is None or law is False or any(f is None for f in fields):
         return name, None
-    return name, Body(*fields, *sheared, shear_law=law)
+    return name, Body(*fields, *sheared, cells=profile.cells if profile else (),
+                      shear_law=law)
 
 
 def _material(chk, tbl, where, key, x, default):

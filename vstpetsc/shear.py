@@ -48,10 +48,15 @@ def no_shear_message(name):
     return f"body {name!r} has no shear component (give it G or Vs)"
 
 
-def read_body(chk, tbl, where, rho, material):
+def read_body(chk, tbl, where, rho, material, G=None):
     """(G, v0_shear, u0_shear) of a [[body]] (all None without G or Vs), or
     None after reporting; ``material(key)`` reads a positive profile that
-    covers the body (as E)."""
+    covers the body (as E); ``G`` the modulus of a layered body (its
+    layers give Vs)."""
+    if G is not None:
+        fields = (G, chk.history(tbl, "v0_shear", where, "x"),
+                  chk.history(tbl, "u0_shear", where, "x"))
+        return None if None in fields else fields
     given = [k for k in ("G", "Vs") if k in tbl]
     if len(given) == 2:
         chk.add(f"{where}.Vs", "give G or Vs (G = rho Vs^2), not both")
