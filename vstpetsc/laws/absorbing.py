@@ -1,14 +1,26 @@
 """Lysmer's absorbing end: a dashpot Z = rho c A (a half-space of that
 impedance beyond the end) that lets waves leave, and an incoming wave of
 particle velocity v_in(t): the end receives Z (2 v_in - v) along +x at
-either end (docs/loads.md section 1)."""
+either end (docs/loads.md section 1).
+
+``motion`` says what the ``incident`` history is: the incident wave itself
+(default), or an outcrop motion (the free surface of the rock doubles the
+incident wave, so the incident wave is half of it).  A within (borehole)
+motion is the total motion at the base, incident and reflected waves
+together: it is prescribed at a rigid base (a velocity bc), never fed to a
+dashpot."""
 
 import numpy as np
 
 from vstpetsc.laws.base import Load
 from vstpetsc.laws.end import EndLaw
 
-KEYS = ("impedance", "incident")
+KEYS = ("impedance", "incident", "motion")
+# what the incident history is -> the factor that gives the incident wave
+# (0.5 is exact in binary: outcrop equals scale = 0.5 bit for bit)
+MOTIONS = {"incident": 1.0, "outcrop": 0.5, "within": None}
+WITHIN = ("a within (borehole) motion is the total motion at the base, not an incident "
+          "wave: prescribe it with a type = \"velocity\" bc (rigid base)")
 
 
 def read(chk, tbl, where):
@@ -16,7 +28,19 @@ def read(chk, tbl, where):
     if impedance is None and "impedance" in tbl:
         return None
     incident = chk.history(tbl, "incident", where, "t", records=True)
-    return None if incident is None else {"impedance": impedance, "incident": incident}
+    motion = chk.string(tbl, "motion", where, required=False, default="incident",
+                        choices=tuple(MOTIONS))
+    if motion == "within":
+        chk.add(f"{where}.motion", WITHIN)
+        return None
+    if motion is not None and "motion" in tbl and "incident" not in tbl:
+        chk.add(f"{where}.motion", "only with an incident history")
+        return None
+    if incident is None or motion is None:
+        return None
+    factor = MOTIONS[motion]
+    wave = incident if factor == 1.0 else incident.scaled(factor)
+    return {"impedance": impedance, "incident": wave, "motion": motion}
 
 
 class Absorbing(EndLaw):
@@ -49,7 +73,8 @@ class Absorbing(EndLaw):
         return []
 
     def describe(self):
-        wave = "" if self.incident.is_zero else ", incident wave"
+        wave = "" if self.incident.is_zero else \
+            ", incident wave" + (" = outcrop / 2" if self.spec.params["motion"] == "outcrop" else "")
         return f"{super().describe()} (impedance {self.impedance:.6g}{wave})"
 
 
