@@ -5,8 +5,8 @@ shaking with one cycle of 3 sin(2 pi t) m/s^2) swept with ``vstpetsc.sweep``
 over ``contact.0.friction`` (ky = mu) for the record and the record reversed
 (``contact.0.wall_shear_velocity.scale = -1``), against Newmark's rigid block
 (bench/sliding_block.py) on the same ground motion: the case integrates the
-acceleration samples with trapezoids, so the wall velocity is linear between
-samples and the ground acceleration constant on each sample interval.
+acceleration samples exactly, so the ground acceleration is the record's,
+linear between samples.
 
 (b) A flexible 20 m soil column on the same moving wall, its fixed-base
 period 4 H / Vs below, at and above the record's (1 s), for a few ky:
