@@ -5,8 +5,8 @@ shaking with one cycle of 3 sin(2 pi t) m/s^2) swept with ``vstpetsc.sweep``
 over ``contact.0.friction`` (ky = mu) for the record and the record reversed
 (``contact.0.wall_shear_velocity.scale = -1``), against Newmark's rigid block
 (bench/sliding_block.py) on the same ground motion: the case integrates the
-acceleration samples with trapezoids, so the wall velocity is linear between
-samples and the ground acceleration constant on each sample interval.
+acceleration samples exactly, so the ground acceleration is the record's,
+linear between samples.
 
 (b) A flexible 20 m soil column on the same moving wall, its fixed-base
 period 4 H / Vs below, at and above the record's (1 s), for a few ky:
@@ -50,12 +50,16 @@ COLUMN_FRICTIONS = [0.05, 0.1, 0.2]
 
 
 def ground_acceleration(case, end=None):
-    """(t, a_g) of a case's wall: the slope of its piecewise-linear shear
-    velocity on each sample interval (a repeated time is a jump), then at
+    """(t, a_g) of a case's wall: an integrated record's own acceleration
+    (linear between samples), else the slope of its piecewise-linear shear
+    velocity on each sample interval (a repeated time is a jump); then at
     rest to ``end`` (the history is held after its last sample)."""
     wall = case.contacts[0].wall_shear_velocity
-    acc = np.diff(wall.f) / np.diff(wall.t)
-    t, a = np.repeat(wall.t, 2)[1:-1], np.repeat(acc, 2)
+    if wall.slopes is not None:
+        t, a = wall.t, wall.slopes
+    else:
+        acc = np.diff(wall.f) / np.diff(wall.t)
+        t, a = np.repeat(wall.t, 2)[1:-1], np.repeat(acc, 2)
     if end is not None and end > wall.t[-1]:
         t, a = np.append(t, [wall.t[-1], end]), np.append(a, [0.0, 0.0])
     return t, a

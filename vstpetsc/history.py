@@ -3,6 +3,12 @@
 file, optionally scaled and integrated; and their exact integrals against
 the linear time shape functions of a slab.
 
+An integrated record (an acceleration, linear between its samples) is the
+exact integral of that acceleration: piecewise quadratic, so its value
+between samples and its slab integrals are exact too (issue 28: the
+trapezoidal values joined linearly filtered the record like
+1 - (2/3) (pi f dt)^2 and kinked it at every sample).
+
 Every form ends as the same (t, f) table, so the same data inline or from a
 file give identical results.
 """
@@ -18,7 +24,8 @@ GAUSS_W = np.array([5.0, 8.0, 5.0]) / 18.0
 
 
 class History:
-    """A constant or a piecewise-linear function of one variable.
+    """A constant, a piecewise-linear or (an integrated record) a piecewise
+    quadratic function of one variable.
 
     Outside the table the end values are held (like :func:`numpy.interp`).
 
@@ -28,42 +35,70 @@ class History:
         Increasing abscissae and values.  ``None`` for a constant.
     value : float
         The constant value when ``points`` is ``None``.
+    slopes : array_like, shape (n,), optional
+        df/dt at the points, linear in between (an integrated record's
+        acceleration samples): f is then quadratic between points, the
+        exact integral of its slopes.  ``None``: f is linear between points.
     """
 
-    def __init__(self, points=None, value=0.0):
+    def __init__(self, points=None, value=0.0, slopes=None):
         if points is None:
             self.t = np.array([0.0])
             self.f = np.array([float(value)])
         else:
             pts = np.asarray(points, dtype=float)
             self.t, self.f = pts[:, 0].copy(), pts[:, 1].copy()
+        self.slopes = None if slopes is None else np.array(slopes, dtype=float)
+        if self.slopes is not None:
+            # f = f_i + s (c1_i + c2_i s) on [t_i, t_i+1], s = t - t_i: once per history
+            self._c1 = self.slopes[:-1]
+            self._c2 = np.diff(self.slopes) / (2.0 * np.diff(self.t))
 
     @property
     def is_zero(self):
-        return not np.any(self.f)
+        return not np.any(self.f) and (self.slopes is None or not np.any(self.slopes))
 
     @property
     def is_constant(self):
-        return bool(np.all(self.f == self.f[0]))
+        return bool(np.all(self.f == self.f[0])) and \
+            (self.slopes is None or not np.any(self.slopes))
 
     def __eq__(self, other):
         return (isinstance(other, History) and np.array_equal(self.t, other.t)
-                and np.array_equal(self.f, other.f))
+                and np.array_equal(self.f, other.f)
+                and (self.slopes is None) == (other.slopes is None)
+                and (self.slopes is None or np.array_equal(self.slopes, other.slopes)))
 
     def __repr__(self):
         if self.t.size == 1:
             return f"History({self.f[0]!r})"
-        return f"History({self.t.size} points, {self.t[0]:g} .. {self.t[-1]:g})"
+        kind = "points" if self.slopes is None else "points, quadratic"
+        return f"History({self.t.size} {kind}, {self.t[0]:g} .. {self.t[-1]:g})"
 
     def __call__(self, t):
-        return np.interp(t, self.t, self.f)
+        if self.slopes is None:
+            return np.interp(t, self.t, self.f)
+        return self._quadratic(np.asarray(t, dtype=float))
+
+    def _quadratic(self, t):
+        """The piecewise quadratic at t; the end values held outside."""
+        i = np.clip(np.searchsorted(self.t, t, side="right") - 1, 0, self.t.size - 2)
+        s = np.maximum(t - self.t[i], 0.0)
+        inside = self.f[i] + s * (self._c1[i] + self._c2[i] * s)
+        return np.where(t >= self.t[-1], self.f[-1], inside)[()]
+
+    def scaled(self, factor):
+        """This history times ``factor`` (slopes too)."""
+        slopes = None if self.slopes is None else factor * self.slopes
+        return History(np.column_stack([self.t, factor * self.f]), slopes=slopes)
 
     def hat_integrals(self, t0, t1):
         """Exact ``(int T1 f dt, int T2 f dt)`` over ``[t0, t1]``.
 
         ``T1 = 1 - theta`` and ``T2 = theta`` with ``theta = (t - t0)/(t1 - t0)``;
         the interval is split at the table's break points, so a Gauss rule on
-        each piece integrates the product of two linear functions exactly.
+        each piece integrates the product of T_a and a linear or quadratic
+        f exactly (degree 3 <= 5).
         """
         lo, hi = np.searchsorted(self.t, [t0, t1], side="right")
         inner = self.t[lo:hi]
@@ -80,7 +115,8 @@ class History:
     def slab_integrals(self, dt, k0, k1):
         """``hat_integrals`` of the slabs k0+1 .. k1 ((k - 1) dt, k dt], as
         an array (k1 - k0, 2), vectorized over the slabs: every piece between
-        slab edges and table break points gets the 3-point Gauss rule."""
+        slab edges and table break points gets the 3-point Gauss rule (exact:
+        f is at most quadratic on a piece)."""
         edges = dt * np.arange(k0, k1 + 1)
         inner = self.t[(self.t > edges[0]) & (self.t < edges[-1])]
         points = np.union1d(edges, inner)
@@ -99,12 +135,15 @@ class History:
 
 def from_samples(t, f, scale=1.0, integrate=False):
     """The history of samples (t, f): times scale, then (``integrate``)
-    integrated once by the trapezoidal rule from 0 at the first sample."""
+    integrated once, exactly, from 0 at the first sample: f linear between
+    samples gives a piecewise quadratic whose values at the samples are
+    the trapezoidal sums."""
     t = np.asarray(t, dtype=float)
     f = np.asarray(f, dtype=float) * scale
-    if integrate:
-        f = np.concatenate(([0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))))
-    return History(np.column_stack([t, f]))
+    if not integrate:
+        return History(np.column_stack([t, f]))
+    v = np.concatenate(([0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))))
+    return History(np.column_stack([t, v]), slopes=f)
 
 
 class RecordError(ValueError):

@@ -7,17 +7,29 @@ Z is given as ``impedance``, or as the elastic ``rock`` beyond the end
 (Z = rho_rock V_rock A with A the end element's area, V the rock's Vs for a
 shear end and Vp for an axial one), or by default the end element's own
 rho c A: no reflection of the body's own waves, but not the impedance of
-rock stiffer than the body, whose motion an outcrop record is."""
+rock stiffer than the body, whose motion an outcrop record is.
+
+``motion`` says what the ``incident`` history is: the incident wave itself
+(default), or an outcrop motion (the free surface of the rock doubles the
+incident wave, so the incident wave is half of it).  A within (borehole)
+motion is the total motion at the base, incident and reflected waves
+together: it is prescribed at a rigid base (a velocity bc), never fed to a
+dashpot."""
 
 import numpy as np
 
 from vstpetsc.laws.base import Load
 from vstpetsc.laws.end import EndLaw
 
-KEYS = ("impedance", "rock", "incident")
+KEYS = ("impedance", "rock", "incident", "motion")
 ROCK_KEYS = ("rho", "Vs", "Vp")
 # the rock's wave speed that an end of each component feels
 ROCK_SPEED = {"axial": "Vp", "shear": "Vs"}
+# what the incident history is -> the factor that gives the incident wave
+# (0.5 is exact in binary: outcrop equals scale = 0.5 bit for bit)
+MOTIONS = {"incident": 1.0, "outcrop": 0.5, "within": None}
+WITHIN = ("a within (borehole) motion is the total motion at the base, not an incident "
+          "wave: prescribe it with a type = \"velocity\" bc (rigid base)")
 
 
 def read(chk, tbl, where):
@@ -30,9 +42,19 @@ def read(chk, tbl, where):
             chk.add(f"{where}.rock", "give impedance or rock, not both")
         return None
     incident = chk.history(tbl, "incident", where, "t", records=True)
-    if incident is None:
+    motion = chk.string(tbl, "motion", where, required=False, default="incident",
+                        choices=tuple(MOTIONS))
+    if motion == "within":
+        chk.add(f"{where}.motion", WITHIN)
         return None
-    return {"impedance": impedance, "rock": rock, "incident": incident}
+    if motion is not None and "motion" in tbl and "incident" not in tbl:
+        chk.add(f"{where}.motion", "only with an incident history")
+        return None
+    if incident is None or motion is None:
+        return None
+    factor = MOTIONS[motion]
+    wave = incident if factor == 1.0 else incident.scaled(factor)
+    return {"impedance": impedance, "rock": rock, "incident": wave, "motion": motion}
 
 
 def read_rock(chk, tbl, where):
@@ -82,7 +104,8 @@ class Absorbing(EndLaw):
         return []
 
     def describe(self):
-        wave = "" if self.incident.is_zero else ", incident wave"
+        wave = "" if self.incident.is_zero else \
+            ", incident wave" + (" = outcrop / 2" if self.spec.params["motion"] == "outcrop" else "")
         return f"{super().describe()} (impedance {self.impedance:.6g} {self.source}{wave})"
 
 
