@@ -342,6 +342,10 @@ class GaugeGroup(Group):
     ``v`` and ``shear_v`` (:func:`vstpetsc.spectrum.acceleration`)."""
 
     @property
+    def name(self):
+        return self._path.split("/", 1)[1]
+
+    @property
     def dt(self):
         return float(self._result.attrs["dt"])
 
