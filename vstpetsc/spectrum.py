@@ -126,7 +126,7 @@ def fourier_amplitude(acc, dt):
     """(frequency k / (N dt), |DFT|) for k = 0 .. N // 2; no taper, no
     detrending."""
     acc = np.asarray(acc, dtype=float)
-    return np.fft.rfftfreq(acc.size, dt), np.abs(np.fft.rfft(acc))
+    return np.arange(acc.size // 2 + 1) / (acc.size * dt), np.abs(np.fft.rfft(acc))
 
 
 def konno_ohmachi(frequency, amplitude, b=40.0):
