@@ -95,6 +95,13 @@ def test_transfer_function_of_delays_is_exact(rng, n):
     assert np.allclose(amp, 1.0, rtol=1e-12, atol=0)
     f, amp = vstpetsc.transfer_function(x, x + np.roll(x, m), dt)
     assert np.allclose(amp, 2 * np.abs(np.cos(np.pi * f * m * dt)), rtol=1e-9, atol=1e-12)
+    quiet = np.zeros(n)
+    quiet[0] = 1.0                      # amplitude 1 at every f
+    assert np.allclose(vstpetsc.transfer_function(quiet, x, dt)[1],
+                       np.abs(np.fft.rfft(x)), rtol=1e-12)
+    assert np.isnan(vstpetsc.transfer_function(np.zeros(n), x, dt)[1]).all()
+    with pytest.raises(InputError, match="^acc_to: the records need equal lengths"):
+        vstpetsc.transfer_function(x, x[1:], dt)
 
 
 def test_konno_ohmachi_keeps_a_constant_and_is_the_weighted_mean(rng):
@@ -205,6 +212,11 @@ def test_transfer_csv_summary_and_figures(run, capsys):
     code, out, _ = main(capsys, "transfer", r.path, "--from", "mid", "--to", "top")
     assert code == 0 and out.startswith("transfer function top / mid, shear acceleration\n")
     assert f"{f.size} frequencies 0 .. {f[-1]:.6g} 1/s" in out
+    lower = np.abs(np.fft.rfft(r.gauge("mid").shear_acceleration))
+    ratio = np.abs(np.fft.rfft(r.gauge("top").shear_acceleration)) / lower
+    band = np.flatnonzero(lower >= 0.01 * lower[1:].max())
+    k = band[band > 0][np.argmax(ratio[band[band > 0]])]
+    assert f"largest amplitude ratio {ratio[k]:.6g} at f = {f[k]:.6g} 1/s" in out
     spec_png = folder / "s.png"
     assert main(capsys, "spectrum", r.path, "--gauge", "top", "-o", spec_png)[0] == 0
     assert spec_png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -226,6 +238,10 @@ BAD = [
      "--component: gauge 'side' has no shear component"),
     (("transfer", "--from", "top", "--to", "nope"), "--to: no gauge 'nope'"),
     (("transfer", "--from", "top", "--to", "mid", "--smooth", "-3"), "--smooth: a positive"),
+    (("transfer", "--from", "top", "--to", "mid", "--csv", "/nonexistent/t.csv"),
+     "--csv: folder /nonexistent does not exist"),
+    (("spectrum", "--gauge", "top", "-o", "/nonexistent/s.png"),
+     "-o: folder /nonexistent does not exist"),
 ]
 
 
@@ -275,9 +291,31 @@ def test_plot_shows_what_the_case_has(run):
     assert np.array_equal(p["acceleration"], np.abs(a).max(axis=0))
 
 
+def test_the_strain_profile_is_left_out_when_the_case_cannot_be_read(run, monkeypatch):
+    from vstpetsc.results import seismic
+
+    r, _ = run
+
+    def gone():
+        raise vstpetsc.CaseError(["motion.csv: no such file"])
+    monkeypatch.setattr(r, "case", gone)
+    p = seismic.peak_profiles(r, "col")
+    assert p["strain"] is None and p["stress_max"].shape == (10,)
+
+
 def test_site_response_example_has_surface_and_base_gauges():
     from vstpetsc import bundled
 
     case = vstpetsc.Case.from_toml(bundled.path("site-response"))
     gauges = {g.name: (case.bodies[g.body].name, g.x) for g in case.gauges}
     assert gauges == {"surface": ("soil", 30.0), "base": ("soil", 0.0)}
+
+
+def test_the_package_exports_them_without_petsc():
+    import subprocess
+    import sys
+
+    code = ("import sys, vstpetsc; from vstpetsc import response_spectrum, transfer_function; "
+            "sys.exit('petsc4py' in sys.modules or 'mpi4py' in sys.modules)")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
