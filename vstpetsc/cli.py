@@ -392,6 +392,7 @@ def _plot_sweep(rest):
 
 # spectrum and transfer (docs/seismic-outputs.md)
 SEISMIC = ("-o", "--output", "--csv", "--component")
+MAX_PERIODS = 100_000         # --periods A:B:N: a bound on N (the work grows with it)
 
 
 def _gauge(result, opts, key):
@@ -444,11 +445,13 @@ def _periods(text):
     parts = text.split(":")
     try:
         lo, hi, n = float(parts[0]), float(parts[1]), parts[2]
-        good = len(parts) == 3 and n.isdigit() and 0 < lo < hi < np.inf and int(n) >= 2
+        good = (len(parts) == 3 and n.isdigit() and 0 < lo < hi < np.inf
+                and 2 <= int(n) <= MAX_PERIODS)
     except (ValueError, IndexError):
         good = False
     if not good:
-        raise UsageError(f"--periods: A:B:N with 0 < A < B and a whole N >= 2, got {text!r}")
+        raise UsageError(f"--periods: A:B:N with 0 < A < B and a whole N in 2 .. "
+                         f"{MAX_PERIODS}, got {text!r}")
     return np.geomspace(lo, hi, int(n))
 
 
@@ -496,18 +499,14 @@ def _spectrum(rest):
 
 
 def _transfer(rest):
-    import math
-
     from vstpetsc.results import plot, seismic
-    from vstpetsc.spectrum import fourier_amplitude, transfer_function
+    from vstpetsc.spectrum import bandwidth_problem, fourier_amplitude, transfer_function
 
     opts = parse_options(rest, ["result"], valued=SEISMIC + ("--from", "--to", "--smooth"))
     result = _result(opts, "transfer")
     lower, upper = _gauge(result, opts, "from"), _gauge(result, opts, "to")
     component = _component(opts, [lower, upper])
-    smooth = _number(opts, "smooth", lambda b: None if isinstance(b, float) and
-                     math.isfinite(b) and b > 0 else f"a positive bandwidth b (40 is usual), "
-                     f"got {b!r}")
+    smooth = _number(opts, "smooth", bandwidth_problem)
     records = [seismic.gauge_acceleration(g, component) for g in (lower, upper)]
     freq, amp = transfer_function(*records, lower.dt, smooth)
     title = (f"{opts['to']} / {opts['from']}, {component} acceleration"

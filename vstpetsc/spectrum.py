@@ -38,6 +38,13 @@ def periods_problem(periods):
     return None
 
 
+def bandwidth_problem(b):
+    """Why ``b`` is no Konno-Ohmachi bandwidth (a positive number), or None."""
+    if not (isinstance(b, (int, float, np.floating)) and np.isfinite(b) and b > 0):
+        return f"a positive bandwidth b (40 is usual), got {b!r}"
+    return None
+
+
 def _check(dt, damping, periods):
     for problem, key in ((damping_problem(damping), "damping"),
                          (periods_problem(periods), "periods"),
@@ -138,8 +145,8 @@ def konno_ohmachi(frequency, amplitude, b=40.0):
     at a time)."""
     f = np.asarray(frequency, dtype=float)
     amp = np.asarray(amplitude, dtype=float)
-    if not (isinstance(b, (int, float)) and np.isfinite(b) and b > 0):
-        raise InputError(f"smooth: a positive bandwidth b, got {b!r}")
+    if bandwidth_problem(b):
+        raise InputError(f"smooth: {bandwidth_problem(b)}")
     out = amp.copy()
     pos = np.flatnonzero(f > 0)
     x = b * np.log10(f[pos])
