@@ -8,6 +8,7 @@ The Python API (the command line is a thin shell over it)::
     result = vstpetsc.run(case.with_value("body.bar.v0", 2.0), output="run.h5")
     result.contact(0).force.max(), result.body("bar").u, result.energy["kinetic"]
     rows = vstpetsc.sweep(case, {"body.bar.v0": [0.5, 1.0, 2.0]}, "sweep-out")
+    vstpetsc.response_spectrum(result.gauge("top").acceleration, case.dt)
 
 ``import vstpetsc`` does not start PETSc; :func:`run` does.
 """
@@ -19,7 +20,9 @@ from vstpetsc.driver import RunInfo, run                         # noqa: E402
 from vstpetsc.errors import (CaseError, InputError, Interrupted,  # noqa: E402
                              SolveFailed)
 from vstpetsc.results.reader import Result                       # noqa: E402
+from vstpetsc.spectrum import response_spectrum, transfer_function  # noqa: E402
 from vstpetsc.sweep import sweep                                 # noqa: E402
 
 __all__ = ["Case", "CaseError", "InputError", "Interrupted", "Result", "RunInfo",
-           "SolveFailed", "run", "sweep", "__version__"]
+           "SolveFailed", "response_spectrum", "run", "sweep", "transfer_function",
+           "__version__"]

@@ -15,13 +15,17 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
                     [--restart RESULT.h5] [PETSc options ...]
        vstpetsc example [NAME [-o CASE.toml]]   list the bundled cases, or write one
        vstpetsc info RESULT.h5                   one-screen summary of a result
-       vstpetsc plot RESULT.h5 [-o FIGURE.png]   velocity map, contact force, energy
+       vstpetsc plot RESULT.h5 [-o FIGURE.png]   velocity map and what the case has
        vstpetsc sweep CASE.toml --set KEY=V1,V2,... [--set ...] [-o DIR] [--quiet]
                     [--ranks-per-run K] [PETSc options ...]   a run per combination, DIR/summary.csv
        vstpetsc plot DIR/summary.csv [--x KEY] [--y QUANTITY] [-o FIGURE.png]
        vstpetsc export RESULT.h5 [--csv DIR] [--xdmf]
                                                  time series as CSV files in DIR; RESULT.xdmf
                                                  (u, v, stress over time) for ParaView
+       vstpetsc spectrum RESULT.h5 --gauge NAME [--component shear|axial] [--damping 0.05]
+                    [--periods A:B:N] [--csv FILE] [-o FIGURE.png]   response spectrum
+       vstpetsc transfer RESULT.h5 --from NAME --to NAME [--component shear|axial]
+                    [--smooth B] [--csv FILE] [-o FIGURE.png]   Fourier amplitude ratio
        vstpetsc --version"""
 
 EXIT_BAD_INPUT = 2
@@ -111,7 +115,8 @@ def main(argv=None):
         return 0
     command, rest = argv[0], argv[1:]
     commands = {"run": _run, "example": _example, "info": _info, "plot": _plot,
-                "export": _export, "sweep": _sweep}
+                "export": _export, "sweep": _sweep, "spectrum": _spectrum,
+                "transfer": _transfer}
     if command not in commands:
         return _fail([f"unknown command {command!r} (commands: {', '.join(commands)})"],
                      EXIT_BAD_INPUT)
@@ -383,3 +388,130 @@ def _plot_sweep(rest):
     out = _figure(opts, path)
     print(f"wrote {plot_sweep(path, out, opts['x'], opts['y'])}")
     return 0
+
+
+# spectrum and transfer (docs/seismic-outputs.md)
+SEISMIC = ("-o", "--output", "--csv", "--component")
+MAX_PERIODS = 100_000         # --periods A:B:N: a bound on N (the work grows with it)
+
+
+def _gauge(result, opts, key):
+    """The gauge named by option --``key``."""
+    name = opts[key]
+    known = f"(gauges: {', '.join(result.gauges) or 'none'})"
+    if name is None:
+        raise UsageError(f"--{key}: give a gauge name {known}")
+    if name not in result.gauges:
+        raise UsageError(f"--{key}: no gauge {name!r} in {result.path} {known}")
+    return result.gauge(name)
+
+
+def _component(opts, gauges):
+    """--component, by default shear when every gauge's body has one."""
+    from vstpetsc.results import seismic
+
+    everywhere = all(seismic.has_shear(g) for g in gauges)
+    component = opts["component"] or ("shear" if everywhere else "axial")
+    if component not in seismic.COMPONENTS:
+        raise UsageError(f"--component: shear or axial, got {component!r}")
+    for g in gauges:
+        if component == "shear" and not seismic.has_shear(g):
+            raise UsageError(f"--component: gauge {g.name!r} has no shear component (its "
+                             f"body {g.attrs['body']!r} has no G or Vs)")
+    return component
+
+
+def _number(opts, key, problem, default=None):
+    """Option --``key`` as a float, ``problem(value)`` None for a good one."""
+    text = opts[key]
+    if text is None:
+        return default
+    try:
+        value = float(text)
+    except ValueError:
+        value = text
+    why = problem(value)
+    if why:
+        raise UsageError(f"--{key}: {why}")
+    return value
+
+
+def _periods(text):
+    """--periods A:B:N: N periods log-spaced from A to B, both included."""
+    import numpy as np
+
+    if text is None:
+        return None
+    parts = text.split(":")
+    try:
+        lo, hi, n = float(parts[0]), float(parts[1]), parts[2]
+        good = (len(parts) == 3 and n.isdigit() and 0 < lo < hi < np.inf
+                and 2 <= int(n) <= MAX_PERIODS)
+    except (ValueError, IndexError):
+        good = False
+    if not good:
+        raise UsageError(f"--periods: A:B:N with 0 < A < B and a whole N in 2 .. "
+                         f"{MAX_PERIODS}, got {text!r}")
+    return np.geomspace(lo, hi, int(n))
+
+
+def _outputs(opts):
+    """The --csv and -o paths given (None when not), checked writable."""
+    from vstpetsc.results.files import path_problem
+
+    for key, flag in (("csv", "--csv"), ("output", "-o")):
+        problem = opts[key] and path_problem(opts[key])
+        if problem:
+            raise UsageError(f"{flag}: {problem}")
+    return opts["csv"], opts["output"]
+
+
+def _report(opts, columns, draw, lines):
+    """Write the CSV and the figure asked for, else print ``lines``."""
+    from vstpetsc.results.export import _write_csv
+
+    csv, figure = _outputs(opts)
+    if csv:
+        print(f"wrote {_write_csv(csv, columns)}")
+    if figure:
+        print(f"wrote {draw(figure)}")
+    if not (csv or figure):
+        print("\n".join(lines))
+    return 0
+
+
+def _spectrum(rest):
+    from vstpetsc.results import plot, seismic
+    from vstpetsc.spectrum import damping_problem, response_spectrum
+
+    opts = parse_options(rest, ["result"], valued=SEISMIC + ("--gauge", "--damping", "--periods"))
+    result = _result(opts, "spectrum")
+    gauge = _gauge(result, opts, "gauge")
+    component = _component(opts, [gauge])
+    damping = _number(opts, "damping", damping_problem, 0.05)
+    periods = _periods(opts["periods"])
+    acc = seismic.gauge_acceleration(gauge, component)
+    spec = response_spectrum(acc, gauge.dt, periods, damping)
+    title = f"gauge {opts['gauge']}, {component} acceleration, damping {damping:g}"
+    lines = [f"response spectrum of {title}"] + seismic.spectrum_summary(
+        spec, acc, gauge.dt, plot.units(result.attrs))
+    return _report(opts, spec, lambda out: plot.plot_spectrum(spec, out, result, title), lines)
+
+
+def _transfer(rest):
+    from vstpetsc.results import plot, seismic
+    from vstpetsc.spectrum import bandwidth_problem, fourier_amplitude, transfer_function
+
+    opts = parse_options(rest, ["result"], valued=SEISMIC + ("--from", "--to", "--smooth"))
+    result = _result(opts, "transfer")
+    lower, upper = _gauge(result, opts, "from"), _gauge(result, opts, "to")
+    component = _component(opts, [lower, upper])
+    smooth = _number(opts, "smooth", bandwidth_problem)
+    records = [seismic.gauge_acceleration(g, component) for g in (lower, upper)]
+    freq, amp = transfer_function(*records, lower.dt, smooth)
+    title = (f"{opts['to']} / {opts['from']}, {component} acceleration"
+             + (f", Konno-Ohmachi b = {smooth:g}" if smooth else ""))
+    lines = [f"transfer function {title}"] + seismic.transfer_summary(
+        freq, amp, fourier_amplitude(records[0], lower.dt)[1], plot.units(result.attrs))
+    return _report(opts, {"frequency": freq, "amplitude": amp},
+                   lambda out: plot.plot_transfer(freq, amp, out, result, title), lines)

@@ -1,5 +1,8 @@
-"""One figure of a result file: (a) velocity over space and time, (b) contact
-force, (c) energies.  The only module that imports matplotlib."""
+"""Figures of a result file: the overview of `vstpetsc plot` (velocity over
+space and time, then the panels the case has data for: contact force,
+energies, gauge accelerations and the top gauge's response spectrum, peak
+profiles over x), the response spectrum and the transfer function (`vstpetsc
+spectrum`, `transfer`).  The only module that imports matplotlib."""
 
 import numpy as np
 
@@ -18,7 +21,7 @@ def units(attrs):
 
 
 def plot_result(result, out, max_rows=800):
-    """Write the three-panel figure of ``result`` (a Result or a path) to
+    """Write the overview figure of ``result`` (a Result or a path) to
     ``out`` (PNG)."""
     import matplotlib.pyplot as plt
 
@@ -28,24 +31,55 @@ def plot_result(result, out, max_rows=800):
     return out
 
 
-def result_figure(result, max_rows=800):
-    """The three-panel figure of ``result`` (a Result or a path; a
-    matplotlib Figure)."""
+def _pyplot():
     import matplotlib
     if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg", "cairo"):
         matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    return plt
+
+
+def panels(r):
+    """The small panels the case has something for, in order: (title, draw
+    (ax, r, u, profiles)); every case has energies."""
+    from vstpetsc.results import seismic
+
+    out = []
+    if r.ncontacts:
+        out.append(("contact force", contact_panel))
+    out.append(("energy", energy_panel))
+    if r.gauges:
+        out += [("gauge acceleration", gauge_panel), ("response spectrum", spectrum_panel)]
+    if r.gauges or any(seismic.body_has_shear(r, b) for b in r.bodies):
+        out += [("peak strain", strain_profile), ("peak stress", stress_profile),
+                ("peak acceleration", acceleration_profile)]
+    return out
+
+
+def result_figure(result, max_rows=800):
+    """The overview figure of ``result`` (a Result or a path; a matplotlib
+    Figure): the velocity map on top, the small panels of :func:`panels`
+    two a row below it."""
     from matplotlib.ticker import MaxNLocator
 
+    from vstpetsc.results import seismic
+
+    plt = _pyplot()
     r = result if isinstance(result, Result) else Result(result)
     u = units(r.attrs)
-    fig = plt.figure(figsize=(11, 8.5), constrained_layout=True)
-    grid = fig.add_gridspec(2, 2, height_ratios=[1.35, 1])
+    small = panels(r)
+    rows = (len(small) + 1) // 2
+    fig = plt.figure(figsize=(11, 4.7 + 3.8 * rows), constrained_layout=True)
+    grid = fig.add_gridspec(1 + rows, 2, height_ratios=[1.35] + [1] * rows)
     velocity_map(fig, fig.add_subplot(grid[0, :]), r, u, max_rows)
-    axes = (contact_panel(fig.add_subplot(grid[1, 0]), r, u),
-            energy_panel(fig.add_subplot(grid[1, 1]), r, u))
-    for ax in axes:
-        ax.xaxis.set_major_locator(MaxNLocator(5))
+    profiles = {b: seismic.peak_profiles(r, b) for b in r.bodies} \
+        if any(title.startswith("peak") for title, _ in small) else {}
+    for k, (title, draw) in enumerate(small):
+        ax = fig.add_subplot(grid[1 + k // 2, k % 2])
+        draw(ax, r, u, profiles)
+        ax.set_title(f"({chr(ord('b') + k)}) {ax.get_title()}")
+        if ax.get_xscale() == "linear":
+            ax.xaxis.set_major_locator(MaxNLocator(5))
     return fig
 
 
@@ -74,20 +108,17 @@ def velocity_map(fig, ax, r, u, max_rows):
     ax.set_title(f"(a) velocity over space and time ({r.status})")
 
 
-def contact_panel(ax, r, u):
-    """(b) slab-mean contact force of every pair."""
+def contact_panel(ax, r, u, profiles=None):
+    """Slab-mean contact force of every pair."""
     t = r.time
     for k in range(r.ncontacts):
         pair = r.contact(k)
         name = text(pair.attrs.get("pair", str(k)))
         ax.step(t, pair.force, where="pre", label=f"[{k}] {name.replace(',', ' | ')}")
-    if r.ncontacts:
-        ax.legend(fontsize=8, loc="upper left")
-    else:
-        ax.text(0.5, 0.5, "no contact pairs", ha="center", transform=ax.transAxes)
+    ax.legend(fontsize=8, loc="upper left")
     ax.set_xlabel(f"t [{u['time']}]")
     ax.set_ylabel(f"slab-mean contact force [{u['force']}]")
-    ax.set_title("(b) contact force (compressive positive)")
+    ax.set_title("contact force (compressive positive)")
     slip_axis(ax, r, u)
     return ax
 
@@ -102,11 +133,11 @@ def slip_axis(ax, r, u):
         twin.plot(r.time, r.contact(k).slip, "--", label=f"[{k}] slip")
     twin.set_ylabel(f"slip [{u['length']}] (dashed)")
     twin.legend(fontsize=8, loc="lower right")
-    ax.set_title("(b) contact force (compressive positive) and slip")
+    ax.set_title("contact force (compressive positive) and slip")
 
 
-def energy_panel(ax, r, u):
-    """(c) the energy balance: kinetic, strain (+ springs), and the sums of
+def energy_panel(ax, r, u, profiles=None):
+    """The energy balance: kinetic, strain (+ springs), and the sums of
     external work, dashpot work and numerical dissipation where not zero."""
     t, e = r.time, r.energy
     names = set(e.keys())
@@ -121,9 +152,114 @@ def energy_panel(ax, r, u):
             ax.plot(t, e[key], style, label=f"{key} (summed)")
     ax.set_xlabel(f"t [{u['time']}]")
     ax.set_ylabel(f"energy [{u['energy']}]")
-    ax.set_title("(c) energy")
+    ax.set_title("energy")
     ax.legend(fontsize=8)
     return ax
+
+
+def gauge_panel(ax, r, u, profiles=None):
+    """Every gauge's acceleration over time (shear where its body has it)."""
+    from vstpetsc.results import seismic
+
+    for name in r.gauges:
+        g = r.gauge(name)
+        component = "shear" if seismic.has_shear(g) else "axial"
+        ax.plot(g.time, seismic.gauge_acceleration(g, component), lw=0.7,
+                label=f"{name} (x = {float(g.attrs['x']):g}, {component})")
+    ax.set_xlabel(f"t [{u['time']}]")
+    ax.set_ylabel(f"acceleration [{u['length']}/{u['time']}^2]")
+    ax.set_title("gauge acceleration")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def spectrum_panel(ax, r, u, profiles=None):
+    """The 5 % response spectrum (psa) of the top gauge (largest x)."""
+    from vstpetsc.results import seismic
+    from vstpetsc.spectrum import response_spectrum
+
+    name = seismic.top_gauge(r)
+    g = r.gauge(name)
+    component = "shear" if seismic.has_shear(g) else "axial"
+    spec = response_spectrum(seismic.gauge_acceleration(g, component), g.dt)
+    spectrum_axes(ax, spec, u)
+    ax.set_title(f"response spectrum, 5 % damping: gauge {name} ({component})")
+    return ax
+
+
+def spectrum_axes(ax, spec, u):
+    """psa over period, log axes."""
+    ax.loglog(spec["period"], spec["psa"])
+    ax.set_xlabel(f"period T [{u['time']}]")
+    ax.set_ylabel(f"psa [{u['length']}/{u['time']}^2]")
+    ax.grid(True, which="both", alpha=0.3)
+
+
+def _profile_label(p):
+    return "shear" if p["shear"] else "axial"
+
+
+def strain_profile(ax, r, u, profiles):
+    """The largest |strain| of every element over x."""
+    for name, p in profiles.items():
+        if p["strain"] is not None:
+            ax.step(p["x"], np.append(p["strain"], p["strain"][-1]), where="post",
+                    label=f"{name} ({_profile_label(p)})")
+    ax.set_xlabel(f"x [{u['length']}]")
+    ax.set_ylabel("peak |strain|")
+    ax.set_title("peak |strain| (du/dx, or dw/dx for shear)")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def stress_profile(ax, r, u, profiles):
+    """The stress envelopes (smallest and largest over every slab end)."""
+    for name, p in profiles.items():
+        for key, style in (("stress_min", "--"), ("stress_max", "-")):
+            ax.step(p["x"], np.append(p[key], p[key][-1]), style, where="post",
+                    label=f"{name} {key[7:]} ({_profile_label(p)})")
+    ax.set_xlabel(f"x [{u['length']}]")
+    ax.set_ylabel(f"stress [{u['force']}/{u['length']}^2]")
+    ax.set_title("peak stress (envelopes)")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def acceleration_profile(ax, r, u, profiles):
+    """The largest |acceleration| of every node over the kept rows."""
+    for name, p in profiles.items():
+        ax.plot(p["x"], p["acceleration"], label=f"{name} ({_profile_label(p)})")
+    ax.set_xlabel(f"x [{u['length']}]")
+    ax.set_ylabel(f"peak |acceleration| [{u['length']}/{u['time']}^2]")
+    ax.set_title("peak acceleration (kept rows)")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_spectrum(spec, out, result, title):
+    """The response spectrum ``spec`` (psa over period, log axes) as ``out``."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
+    spectrum_axes(ax, spec, units(result.attrs))
+    ax.set_title(title, fontsize=10)
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def plot_transfer(freq, amp, out, result, title):
+    """The transfer function (amplitude ratio over frequency > 0) as ``out``."""
+    plt = _pyplot()
+    u = units(result.attrs)
+    fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
+    ax.semilogx(freq[1:], amp[1:])
+    ax.set_xlabel(f"frequency [1/{u['time']}]")
+    ax.set_ylabel("amplitude ratio")
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
 
 
 def plot_sweep(path, out, x=None, y=None):

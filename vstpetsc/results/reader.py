@@ -337,9 +337,32 @@ class Group:
 
 
 class GaugeGroup(Group):
-    """A gauge's group; ``.time`` the slab ends its rows belong to."""
+    """A gauge's group; ``.time`` the slab ends its rows belong to;
+    ``.acceleration`` and ``.shear_acceleration`` the derivatives of its
+    ``v`` and ``shear_v`` (:func:`vstpetsc.spectrum.acceleration`)."""
+
+    @property
+    def name(self):
+        return self._path.split("/", 1)[1]
+
+    @property
+    def dt(self):
+        return float(self._result.attrs["dt"])
 
     @property
     def time(self):
-        import numpy as np
-        return np.arange(self.u.size) * float(self._result.attrs["dt"])
+        return np.arange(self.u.size) * self.dt
+
+    @property
+    def acceleration(self):
+        """The axial acceleration at the slab ends: central differences of
+        ``v`` (one-sided at the first and last)."""
+        from vstpetsc.spectrum import acceleration
+        return acceleration(self.v, self.dt)
+
+    @property
+    def shear_acceleration(self):
+        """The shear acceleration at the slab ends, from ``shear_v`` as
+        :attr:`acceleration` (AttributeError without a shear component)."""
+        from vstpetsc.spectrum import acceleration
+        return acceleration(self.shear_v, self.dt)
