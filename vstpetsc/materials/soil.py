@@ -66,10 +66,10 @@ class HystereticSoil:
                                                  dt, tangent)
         return Q, dQ
 
-    def finish(self, D1, D2, dt):
-        """Take (D1, D2) as the slab's solution: its work, the state at the
-        slab end, the envelopes."""
-        Q, _ = self.slab(D1, D2, dt, tangent=False)
+    def finish(self, D1, D2, Q, dt):
+        """Take (D1, D2) as the slab's solution (Q: its integrals, the last
+        evaluation, whose path this state still holds): its work, the
+        state at the slab end, the envelopes."""
         self.work += float(np.sum(self.h / dt * (D1 * Q[:, 0] + D2 * Q[:, 1])))
         gamma, tau, stack, direction = self.path.end()
         st = self.state

@@ -23,40 +23,49 @@ import math
 import numpy as np
 from petsc4py import PETSc
 
+from vstpetsc import slab
 from vstpetsc.petsc.newton import solve_checked
 from vstpetsc.petsc.options import PREFIX
 from vstpetsc.petsc.space import DofGather
 
 
+# Krylov iterations of a Newton step beyond which the tangent is factored anew
+REFRESH = 2
+
+
 class SoilCoupling:
     """The soil's nodes in the solver's space: from the unknowns X to the
-    elements' strain increments D (ne, 2), and element forces back to rows."""
+    elements' strain increments D (ne, 2), and element forces back to rows
+    (an incidence matrix: +1 on an element's right node, -1 on its left)."""
 
     def __init__(self, soil, solver, fixed_nodes):
+        import scipy.sparse
+
         self.soil, self.dt = soil, solver.dt
         nodes = soil.nodes
-        # rows of prescribed velocities are identities in A: no force there
-        self.free = (~np.isin(nodes, fixed_nodes)).astype(float)[:, None]
         dofs = (2 * nodes[:, None] + np.arange(2)).ravel()
         self.gather = DofGather(solver.X, dofs, solver.space.nodes)
         self.left = np.searchsorted(nodes, soil.left)
-        self.n = nodes.size
+        self.n, ne = nodes.size, soil.left.size
+        cols = np.arange(ne)
+        self.incidence = scipy.sparse.csr_matrix(
+            (np.r_[-np.ones(ne), np.ones(ne)], (np.r_[self.left, self.left + 1], np.r_[cols, cols])),
+            shape=(self.n, ne))
+        self.difference = self.incidence.T.tocsr()        # v_right - v_left
+        # rows of prescribed velocities are identities in A: no force there
+        self.free = (~np.isin(nodes, fixed_nodes)).astype(float)[:, None]
+        self.held = 1.0 - self.free
         self.V, self.W = solver.V, solver.W
-        self.scale = self.dt / soil.h            # D_b = dt (v_r^b - v_l^b) / h
+        self.scale = (self.dt / soil.h)[:, None]            # D_b = dt (v_r^b - v_l^b) / h
 
     def increments(self, values):
-        """(D1, D2) from the gathered unknowns (n dofs pairs, z basis)."""
-        v = values.reshape(-1, 2) @ self.V.T
-        d = v[self.left + 1] - v[self.left]
-        return d[:, 0] * self.scale, d[:, 1] * self.scale
+        """D (ne, 2) from the gathered unknowns (z basis, per node)."""
+        return (self.difference @ (values.reshape(-1, 2) @ self.V.T)) * self.scale
 
     def node_forces(self, element_forces):
         """Per node (n, 2), velocity basis, from per-element (ne, 2) forces
         on the right node (the left node takes their negative)."""
-        rows = np.zeros((self.n, 2))
-        np.add.at(rows, self.left, -element_forces)
-        np.add.at(rows, self.left + 1, element_forces)
-        return rows
+        return self.incidence @ element_forces
 
     def rows(self, element_forces):
         """W-mixed rows of the free nodes, in gathered order."""
@@ -66,18 +75,18 @@ class SoilCoupling:
         """The work of the supports that hold prescribed nodes against these
         forces over the slab: sum_a f^a v^a at those nodes (the reactions of
         the linear rows do not see them)."""
-        held = 1.0 - self.free
-        if not held.any():
+        if not self.held.any():
             return 0.0
         v = values.reshape(-1, 2) @ self.V.T
-        return float(np.sum(self.node_forces(element_forces) * held * v))
+        return float(np.sum(self.node_forces(element_forces) * self.held * v))
 
 
 class MaterialNewton:
     """The SNES of slabs with a hysteretic soil."""
 
-    def __init__(self, soil, solver, fixed_nodes, fd_jacobian=False):
+    def __init__(self, soil, solver, ops, fixed_nodes, fd_jacobian=False):
         self.soil, self.c = soil, SoilCoupling(soil, solver, fixed_nodes)
+        self.factors = _Factors(self, solver, ops, fixed_nodes)
         self.A, self.linear, self.dt = solver.A, solver.linear, solver.dt
         self.fd_jacobian = fd_jacobian
         self.carry = np.kron(np.eye(self.c.n), solver.carry)
@@ -104,9 +113,12 @@ class MaterialNewton:
         ksp = snes.getKSP()
         ksp.appendOptionsPrefix("newton_")
         ksp.setType("gmres")
-        ksp.setTolerances(rtol=1e-10, atol=1e-50, max_it=100)
+        ksp.setTolerances(rtol=1e-10, atol=1e-50, max_it=20)
+        # a step whose Krylov solve stalls on stale factors is still taken
+        # (inexact Newton); the next step then factors the tangent anew
+        snes.setMaxKSPFailures(1000)
         ksp.getPC().setType("python")
-        ksp.getPC().setPythonContext(_Factors(self))
+        ksp.getPC().setPythonContext(self.factors)
         snes.setFromOptions()
         return snes
 
@@ -124,10 +136,12 @@ class MaterialNewton:
 
     def residual_rows(self, X, tangent):
         """W r(X) in gathered order (and dQ/dD kept when ``tangent``)."""
-        D1, D2 = self.c.increments(self.c.gather(X))
-        Q, dQ = self.soil.slab(D1, D2, self.dt, tangent)
+        values = self.c.gather(X)
+        D = self.c.increments(values)
+        Q, dQ = self.soil.slab(D[:, 0], D[:, 1], self.dt, tangent)
         if tangent:
             self.dQ = dQ
+        self.evaluated = (values, D, Q)
         return self.c.rows(Q)
 
     def formFunction(self, snes, X, F):
@@ -138,23 +152,36 @@ class MaterialNewton:
         self.X_at = X
 
     def formJacobian(self, snes, X, J, P):
+        if not self.fd_jacobian and snes.getKSP().getIterationNumber() > REFRESH:
+            self.factors.refresh(self.dQ)
         if self.fd_jacobian:
             self.X_at = X.copy()
             self.h = 1e-7 * max(1.0, X.norm(PETSc.NormType.INFINITY))
 
     def solve(self, X, b, slab_index):
-        """Newton from X (A^{-1} b): X becomes the slab's solution; the
-        soil's state moves to the slab end.  Returns the iterations."""
+        """Newton from X (A^{-1} b) less A^{-1} of the last slab's soil
+        forces (a predictor: they change little from slab to slab): X
+        becomes the slab's solution; the soil's state moves to the slab end.
+        Returns the iterations."""
+        if self.rows.any():
+            self.F.zeroEntries()
+            self.c.gather.add_rows(self.F, self.rows)
+            self.linear.solve(self.F, self.work_vec)
+            X.axpy(-1.0, self.work_vec)
         self.b = b
         self.b_norm = b.norm()
         self.last_rows = np.zeros(2 * self.c.n)
+        self.evaluated = (None, None, None)
         self.iterations = solve_checked(self.snes, X, slab_index)
         values = self.c.gather(X)
-        D1, D2 = self.c.increments(values)
-        Q, _ = self.soil.slab(D1, D2, self.dt, tangent=False)
+        if np.array_equal(values, self.evaluated[0]):   # SNES's last evaluation
+            _, D, Q = self.evaluated
+        else:
+            D = self.c.increments(values)
+            Q, _ = self.soil.slab(D[:, 0], D[:, 1], self.dt, tangent=False)
         self.rows = self.c.rows(Q)
         self.soil.support_work += self.c.support_work(Q, values)
-        self.soil.finish(D1, D2, self.dt)
+        self.soil.finish(D[:, 0], D[:, 1], Q, self.dt)
         return self.iterations
 
     def advance(self, b):
@@ -181,8 +208,8 @@ class _Tangent:
         if n.fd_jacobian:
             c.gather.add_rows(y, self._fd(x))
             return
-        D1, D2 = c.increments(c.gather(x))
-        forces = np.einsum("eab,eb->ea", n.dQ, np.column_stack([D1, D2]))
+        D = c.increments(c.gather(x))
+        forces = np.einsum("eab,eb->ea", n.dQ, D)
         c.gather.add_rows(y, c.rows(forces))
 
     def _fd(self, x):
@@ -197,13 +224,60 @@ class _Tangent:
 
 
 class _Factors:
-    """The preconditioner: one application of A's factors."""
+    """The preconditioner: A's factors until the Krylov iterations grow,
+    then (on one rank) the LU factors of the assembled tangent, refreshed
+    whenever a step took more than :data:`REFRESH` iterations: the soil's
+    tangent changes little from slab to slab except near reversals."""
 
-    def __init__(self, newton):
-        self.n = newton
+    def __init__(self, newton, solver, ops, fixed_nodes):
+        self.n, self.linear = newton, solver.linear
+        self.fresh = False
+        self.refreshes = 0
+        self.P = None
+        if solver.space.comm.getSize() > 1:      # A's (parallel) factors only
+            return
+        from vstpetsc.petsc.matrices import block_matrix
+
+        fixed = (2 * np.asarray(fixed_nodes, dtype=int)[:, None] + np.arange(2)).ravel()
+        self.blocks = slab.impose_dirichlet(slab.slab_matrix(ops, solver.dt, solver.W,
+                                                             solver.V), fixed, 1.0)
+        self.nodes = solver.space.nodes
+        self.P = block_matrix(self.blocks, self.nodes, solver.space.comm)
+        self.lu = PETSc.PC().create(comm=solver.space.comm)
+        self.lu.setType("lu")
+        self.lu.setOperators(self.P, self.P)
+        c = newton.c
+        soil = newton.soil
+        self.gl = soil.left
+        self.lf = c.free[c.left, 0][:, None, None]
+        self.rf = c.free[c.left + 1, 0][:, None, None]
+        self.scale = (solver.dt / soil.h)[:, None, None]
+        self.W, self.V = solver.W, solver.V
+
+    def refresh(self, dQ):
+        """Factor A + W (dr/dv) V for the element tangents dQ."""
+        if self.P is None:
+            return
+        B = self.W @ (self.scale * dQ) @ self.V
+        blocks = self.blocks.copy()
+        gl, gr = self.gl, self.gl + 1
+        blocks[gl, 1] += self.lf * B
+        blocks[gl, 2] -= self.lf * B
+        blocks[gr, 1] += self.rf * B
+        blocks[gr, 0] -= self.rf * B
+        indptr, indices, data = slab.block_rows_bcsr(blocks, *self.nodes)
+        self.P.setValuesBlockedCSR(indptr.astype(PETSc.IntType), indices.astype(PETSc.IntType),
+                                   np.ascontiguousarray(data).ravel())
+        self.P.assemble()
+        self.lu.setUp()
+        self.fresh = True
+        self.refreshes += 1
 
     def apply(self, pc, r, y):
-        self.n.linear.solve(r, y)
+        if self.fresh:
+            self.lu.apply(r, y)
+        else:
+            self.linear.solve(r, y)
 
 
 def of(model, solver, options, fixed_nodes):
@@ -215,4 +289,4 @@ def of(model, solver, options, fixed_nodes):
         from vstpetsc.errors import InputError
         raise InputError("body.shear_law: a hysteretic soil together with contact, friction "
                          "or soil-spring laws in one case is not supported yet")
-    return MaterialNewton(soil, solver, fixed_nodes, options.fd_jacobian)
+    return MaterialNewton(soil, solver, model.ops, fixed_nodes, options.fd_jacobian)
