@@ -127,6 +127,7 @@ def read(doc, folder=None):
     parts["gauges"] = read_gauges(chk, chk.tables(doc, "gauge"), bodies, names)
     parts["soils"] = [laws.soil.read(chk, tbl, f"soil[{i}]", bodies, names)
                       for i, tbl in enumerate(chk.tables(doc, "soil"))]
+    materials.check_alone(chk, bodies, contacts, parts["soils"])
     if chk.problems:
         raise CaseError(chk.problems)
     parts.update(bodies=bodies, contacts=contacts, bcs=bcs, input_files=chk.inputs)

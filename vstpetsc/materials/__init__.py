@@ -46,6 +46,19 @@ def read(chk, tbl, where, x, has_shear):
     return False if None in parts else parts
 
 
+def check_alone(chk, bodies, contacts, soils):
+    """A hysteretic soil is solved by Newton on the whole slab, the
+    contact and soil laws by Newton on their own coordinates: one case
+    takes one of the two (reported on the first body with a shear_law)."""
+    first = next((i for i, b in enumerate(bodies) if b is not None and b.shear_law), None)
+    if first is None or not (contacts or soils):
+        return
+    other = "[[contact]]" if contacts else "[[soil]]"
+    chk.add(f"body[{first}] ({bodies[first].name}).shear_law",
+            f"a hysteretic soil cannot yet share a case with {other} (its Newton "
+            "takes the whole slab, theirs their own coordinates)")
+
+
 def build(model_bodies, mesh):
     """The shear field's material law of the mesh (None when no body has
     one)."""

@@ -17,8 +17,8 @@ Stress is continuous through every such step, only its slope jumps.
 Inside a slab the strain of an element is quadratic in theta,
 gamma(theta) = gamma_n + (theta - theta^2/2) D1 + (theta^2/2) D2 with
 D_b = dt (v_right^b - v_left^b) / h, so its rate changes sign at most once,
-at theta* = D1 / (D1 - D2).  The slab is cut there (or at 1/2 when it does
-not reverse) and each piece gets a Gauss rule; a reversal at the slab start
+at theta* = D1 / (D1 - D2).  The slab is cut there (clipped to 0 or 1 when
+it does not turn: one piece) and each piece gets a Gauss rule; a reversal at the slab start
 (the velocity jumps between slabs) or at theta* pushes a point.
 """
 
@@ -141,7 +141,14 @@ class SlabPath:
         self.state, self.D1, self.D2 = state, D1, D2
         gn = state.gamma
         self.reverses = D1 * D2 < 0.0
-        self.cut = np.where(self.reverses, D1 / np.where(self.reverses, D1 - D2, 1.0), 0.5)
+        # theta* where the rate would vanish, clipped: a slab that does not
+        # turn is one piece (the other empty), and the pieces move
+        # continuously as a turn enters or leaves the slab (a fixed cut
+        # there made the Gauss sums jump by their quadrature error, and
+        # Newton cycled between the two sides)
+        diff = D1 - D2
+        self.cut = np.clip(D1 / np.where(diff != 0.0, diff, 1.0), 0.0, 1.0)
+        self.cut[diff == 0.0] = 1.0
         rate = np.where(D1 != 0.0, D1, D2)
         self.d1 = np.where(rate != 0.0, np.sign(rate), state.direction)
         self.d2 = np.where(self.reverses, -self.d1, self.d1)

@@ -29,8 +29,10 @@ from vstpetsc.petsc.options import PREFIX
 from vstpetsc.petsc.space import DofGather
 
 
-# Krylov iterations of a Newton step beyond which the tangent is factored anew
+# the tangent is factored anew after a Newton step that took more Krylov
+# iterations than this, or reduced |F| by less than 1 / SLOW
 REFRESH = 2
+SLOW = 0.1
 
 
 class SoilCoupling:
@@ -99,6 +101,7 @@ class MaterialNewton:
         self.snes = self._snes(solver.space)
         self.rows = np.zeros(2 * self.c.n)          # the converged slab's W r
         self.dQ = None
+        self.rate, self.last_fnorm = 0.0, 0.0
         self.iterations = 0
 
     def _snes(self, space):
@@ -119,7 +122,16 @@ class MaterialNewton:
         snes.setMaxKSPFailures(1000)
         ksp.getPC().setType("python")
         ksp.getPC().setPythonContext(self.factors)
+        # full steps unless asked otherwise: the residual is only piecewise
+        # smooth (a branch meeting an older one kinks it), where a
+        # backtracking search can stall on tiny steps
+        opts, key = PETSc.Options(), PREFIX + "snes_linesearch_type"
+        given = opts.hasName(key)
+        if not given:
+            opts.setValue(key, "basic")
         snes.setFromOptions()
+        if not given:
+            opts.delValue(key)
         return snes
 
     def _converged(self, snes, it, norms):
@@ -127,6 +139,9 @@ class MaterialNewton:
         cannot be met when the start is already near the root."""
         rtol, atol, _, max_it = snes.getTolerances()
         fnorm = norms[2]
+        # how much the last step reduced |F| (slow: stale factors)
+        self.rate = fnorm / self.last_fnorm if it > 0 and self.last_fnorm > 0 else 0.0
+        self.last_fnorm = fnorm
         R = snes.ConvergedReason
         if not math.isfinite(fnorm):
             return R.DIVERGED_FNORM_NAN
@@ -152,7 +167,8 @@ class MaterialNewton:
         self.X_at = X
 
     def formJacobian(self, snes, X, J, P):
-        if not self.fd_jacobian and snes.getKSP().getIterationNumber() > REFRESH:
+        if not self.fd_jacobian and (snes.getKSP().getIterationNumber() > REFRESH
+                                     or self.rate > SLOW):
             self.factors.refresh(self.dQ)
         if self.fd_jacobian:
             self.X_at = X.copy()
