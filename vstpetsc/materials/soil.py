@@ -25,6 +25,7 @@ class HystereticSoil:
         self.backbone = masing.Backbone(self.G, gamma_ref, beta, s)
         self.state = None
         self.path = None
+        self.native = None         # the compiled kernel (vstpetsc.native.masing), if used
         self.work = 0.0            # the correction forces' work so far
         self.support_work = 0.0    # what prescribed nodes' supports did against them
 
@@ -62,6 +63,8 @@ class HystereticSoil:
 
     def slab(self, D1, D2, dt, tangent=True):
         """(Q, dQ/dD) of the slab for strain increments D1, D2."""
+        if self.native is not None:
+            return self.native.slab(D1, D2, dt, tangent)
         Q, dQ, self.path = masing.slab_integrals(self.state, D1, D2, self.A, self.ke_h,
                                                  dt, tangent)
         return Q, dQ
@@ -71,9 +74,13 @@ class HystereticSoil:
         evaluation, whose path this state still holds): its work, the
         state at the slab end, the envelopes."""
         self.work += float(np.sum(self.h / dt * (D1 * Q[:, 0] + D2 * Q[:, 1])))
-        gamma, tau, stack, direction = self.path.end()
         st = self.state
-        st.gamma, st.tau, st.stack, st.direction = gamma, tau, stack, direction
+        if self.native is not None:
+            _, gamma, tau, direction, st.stack.g, st.stack.t, st.stack.k = \
+                self.native.finish(D1, D2, dt)
+        else:
+            gamma, tau, st.stack, direction = self.path.end()
+        st.gamma, st.tau, st.direction = gamma, tau, direction
         np.minimum(self.tau_min, tau, out=self.tau_min)
         np.maximum(self.tau_max, tau, out=self.tau_max)
         np.maximum(self.strain_max, np.abs(gamma), out=self.strain_max)

@@ -41,19 +41,13 @@ class SoilCoupling:
     (an incidence matrix: +1 on an element's right node, -1 on its left)."""
 
     def __init__(self, soil, solver, fixed_nodes):
-        import scipy.sparse
-
         self.soil, self.dt = soil, solver.dt
         nodes = soil.nodes
         dofs = (2 * nodes[:, None] + np.arange(2)).ravel()
         self.gather = DofGather(solver.X, dofs, solver.space.nodes)
         self.left = np.searchsorted(nodes, soil.left)
-        self.n, ne = nodes.size, soil.left.size
-        cols = np.arange(ne)
-        self.incidence = scipy.sparse.csr_matrix(
-            (np.r_[-np.ones(ne), np.ones(ne)], (np.r_[self.left, self.left + 1], np.r_[cols, cols])),
-            shape=(self.n, ne))
-        self.difference = self.incidence.T.tocsr()        # v_right - v_left
+        self.right = self.left + 1
+        self.n = nodes.size
         # rows of prescribed velocities are identities in A: no force there
         self.free = (~np.isin(nodes, fixed_nodes)).astype(float)[:, None]
         self.held = 1.0 - self.free
@@ -62,12 +56,17 @@ class SoilCoupling:
 
     def increments(self, values):
         """D (ne, 2) from the gathered unknowns (z basis, per node)."""
-        return (self.difference @ (values.reshape(-1, 2) @ self.V.T)) * self.scale
+        v = values.reshape(-1, 2) @ self.V.T
+        return (v[self.right] - v[self.left]) * self.scale
 
     def node_forces(self, element_forces):
         """Per node (n, 2), velocity basis, from per-element (ne, 2) forces
-        on the right node (the left node takes their negative)."""
-        return self.incidence @ element_forces
+        on the right node (the left node takes their negative; a node is
+        the left node of one element at most, and the right of one)."""
+        rows = np.zeros((self.n, 2))
+        rows[self.left] -= element_forces
+        rows[self.right] += element_forces
+        return rows
 
     def rows(self, element_forces):
         """W-mixed rows of the free nodes, in gathered order."""
@@ -91,7 +90,7 @@ class MaterialNewton:
         self.factors = _Factors(self, solver, ops, fixed_nodes)
         self.A, self.linear, self.dt = solver.A, solver.linear, solver.dt
         self.fd_jacobian = fd_jacobian
-        self.carry = np.kron(np.eye(self.c.n), solver.carry)
+        self.carry = solver.carry
         self.F = solver.X.duplicate()
         self.work_vec = solver.X.duplicate()
         J = PETSc.Mat().createPython(self.A.getSizes(), context=_Tangent(self),
@@ -203,7 +202,7 @@ class MaterialNewton:
     def advance(self, b):
         """The converged forces carried over in the running sum (as the
         laws' terms: b += W (T - I) W^{-1} (W r))."""
-        self.c.gather.add_rows(b, self.carry @ self.rows)
+        self.c.gather.add_rows(b, (self.rows.reshape(-1, 2) @ self.carry.T).ravel())
 
     def describe(self):
         kind = self.snes.getKSP().getType()
@@ -255,19 +254,27 @@ class _Factors:
         from vstpetsc.petsc.matrices import block_matrix
 
         fixed = (2 * np.asarray(fixed_nodes, dtype=int)[:, None] + np.arange(2)).ravel()
-        self.blocks = slab.impose_dirichlet(slab.slab_matrix(ops, solver.dt, solver.W,
-                                                             solver.V), fixed, 1.0)
-        self.nodes = solver.space.nodes
-        self.P = block_matrix(self.blocks, self.nodes, solver.space.comm)
+        blocks = slab.impose_dirichlet(slab.slab_matrix(ops, solver.dt, solver.W, solver.V),
+                                       fixed, 1.0)
+        n0, n1 = solver.space.nodes
+        self.P = block_matrix(blocks, (n0, n1), solver.space.comm)
         self.lu = PETSc.PC().create(comm=solver.space.comm)
         self.lu.setType("lu")
         self.lu.setOperators(self.P, self.P)
+        indptr, indices, data = slab.block_rows_bcsr(blocks, n0, n1)
+        self.csr = (indptr.astype(PETSc.IntType), indices.astype(PETSc.IntType))
+        self.data = np.ascontiguousarray(data)
+        self.base = self.data.copy()
+        # where each soil element's four blocks sit in the block CSR data
+        slot = lambda row, col: indptr[row] + np.searchsorted(indices[indptr[row]:indptr[row + 1]], col)
+        gl = newton.soil.left
+        self.at = {key: np.array([slot(r, c) for r, c in pairs], dtype=int)
+                   for key, pairs in (("ll", zip(gl, gl)), ("lr", zip(gl, gl + 1)),
+                                      ("rr", zip(gl + 1, gl + 1)), ("rl", zip(gl + 1, gl)))}
         c = newton.c
-        soil = newton.soil
-        self.gl = soil.left
         self.lf = c.free[c.left, 0][:, None, None]
-        self.rf = c.free[c.left + 1, 0][:, None, None]
-        self.scale = (solver.dt / soil.h)[:, None, None]
+        self.rf = c.free[c.right, 0][:, None, None]
+        self.scale = (solver.dt / newton.soil.h)[:, None, None]
         self.W, self.V = solver.W, solver.V
 
     def refresh(self, dQ):
@@ -275,15 +282,14 @@ class _Factors:
         if self.P is None:
             return
         B = self.W @ (self.scale * dQ) @ self.V
-        blocks = self.blocks.copy()
-        gl, gr = self.gl, self.gl + 1
-        blocks[gl, 1] += self.lf * B
-        blocks[gl, 2] -= self.lf * B
-        blocks[gr, 1] += self.rf * B
-        blocks[gr, 0] -= self.rf * B
-        indptr, indices, data = slab.block_rows_bcsr(blocks, *self.nodes)
-        self.P.setValuesBlockedCSR(indptr.astype(PETSc.IntType), indices.astype(PETSc.IntType),
-                                   np.ascontiguousarray(data).ravel())
+        data, at = self.data, self.at
+        data[...] = self.base
+        left, right = self.lf * B, self.rf * B
+        data[at["ll"]] += left
+        data[at["lr"]] -= left
+        data[at["rr"]] += right
+        data[at["rl"]] -= right
+        self.P.setValuesBlockedCSR(*self.csr, data.ravel())
         self.P.assemble()
         self.lu.setUp()
         self.fresh = True
@@ -305,4 +311,13 @@ def of(model, solver, options, fixed_nodes):
         from vstpetsc.errors import InputError
         raise InputError("body.shear_law: a hysteretic soil together with contact, friction "
                          "or soil-spring laws in one case is not supported yet")
+    soil.native = None
+    if options.native:
+        from vstpetsc import native
+
+        lib = native.library()
+        if lib is not None and hasattr(lib, "vst_masing_slab"):
+            from vstpetsc.native.masing import NativeMasing
+
+            soil.native = NativeMasing(lib, soil)
     return MaterialNewton(soil, solver, model.ops, fixed_nodes, options.fd_jacobian)

@@ -1,0 +1,89 @@
+"""The compiled slab integrals of a hysteretic soil (masing.c): one call
+for every element's Q, dQ/dD and, when closing the slab, its end state;
+the same operations as :func:`vstpetsc.materials.masing.slab_integrals`,
+which stays the reference (``-vst_native 0``)."""
+
+import ctypes
+
+import numpy as np
+
+from vstpetsc.materials import masing
+
+_P = ctypes.c_void_p
+
+
+class _Slab(ctypes.Structure):
+    """The C struct MasingSlab of masing.c, field for field."""
+
+    _fields_ = [("ne", ctypes.c_long), ("depth", ctypes.c_int), ("dt", ctypes.c_double)] + \
+        [(name, _P) for name in ("G", "gref", "beta", "s", "area", "keh", "xg", "wg", "gamma",
+                                 "tau", "dir", "sg", "st", "k", "D", "Q", "dQ", "gamma1",
+                                 "tau1", "dir1", "sg1", "st1", "k1")]
+
+
+def _ptr(a):
+    return a.ctypes.data_as(_P)
+
+
+class NativeMasing:
+    """Q and dQ of a :class:`vstpetsc.materials.soil.HystereticSoil`'s
+    slab by ``lib``; its state arrays are read in place (and written when
+    closing a slab)."""
+
+    def __init__(self, lib, soil):
+        lib.vst_masing_slab.argtypes = [_P]
+        lib.vst_masing_slab.restype = None
+        self.lib, self.soil = lib, soil
+        bb = soil.backbone
+        n = soil.elements.size
+        # contiguous copies kept alive for the struct
+        self.params = [np.ascontiguousarray(a, dtype=float).ravel()
+                       for a in (bb.G, bb.gamma_ref, bb.beta, bb.s, soil.A, soil.ke_h)]
+        self.gauss = (np.ascontiguousarray(masing.XG), np.ascontiguousarray(masing.WG))
+        self.D = np.zeros((n, 2))
+        self.Q, self.dQ = np.zeros((n, 2)), np.zeros((n, 2, 2))
+        self.s = _Slab(ne=n, depth=masing.DEPTH)
+        for name, arr in zip(("G", "gref", "beta", "s", "area", "keh"), self.params):
+            setattr(self.s, name, _ptr(arr))
+        self.s.xg, self.s.wg = _ptr(self.gauss[0]), _ptr(self.gauss[1])
+        self.s.D, self.s.Q = _ptr(self.D), _ptr(self.Q)
+        self.dQ_ptr = _ptr(self.dQ)
+        self._state = None
+
+    def _bind_state(self):
+        """Point the struct at the state's arrays (again only when the
+        state holds new ones: after a slab closes)."""
+        st = self.soil.state
+        arrays = (st.gamma, st.tau, st.direction, st.stack.g, st.stack.t, st.stack.k)
+        if self._state is not None and all(a is b for a, b in zip(arrays, self._state[0])):
+            return
+        kept = tuple(np.ascontiguousarray(a) for a in arrays)
+        self._state = (arrays, kept)
+        for name, arr in zip(("gamma", "tau", "dir", "sg", "st", "k"), kept):
+            setattr(self.s, name, _ptr(arr))
+
+    def slab(self, D1, D2, dt, tangent):
+        """(Q, dQ or None) for strain increments D1, D2 (copies)."""
+        self.D[:, 0], self.D[:, 1] = D1, D2
+        self._bind_state()
+        self.s.dt = dt
+        self.s.dQ = self.dQ_ptr if tangent else None
+        self.s.gamma1 = None
+        self.lib.vst_masing_slab(ctypes.byref(self.s))
+        return self.Q.copy(), (self.dQ.copy() if tangent else None)
+
+    def finish(self, D1, D2, dt):
+        """The state at the slab end for the solution D1, D2: (Q, gamma,
+        tau, stack g, stack t, depth, direction), new arrays."""
+        n = self.D.shape[0]
+        self.D[:, 0], self.D[:, 1] = D1, D2
+        self._bind_state()
+        self.s.dt = dt
+        self.s.dQ = None
+        out = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros((n, masing.DEPTH)),
+               np.zeros((n, masing.DEPTH)), np.zeros(n, dtype=np.int64))
+        for name, arr in zip(("gamma1", "tau1", "dir1", "sg1", "st1", "k1"), out):
+            setattr(self.s, name, _ptr(arr))
+        self.lib.vst_masing_slab(ctypes.byref(self.s))
+        self.s.gamma1 = None
+        return (self.Q.copy(),) + out
