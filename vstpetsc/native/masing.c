@@ -27,6 +27,15 @@ typedef struct {
     /* the state at the slab end (finish), or NULL */
     double *gamma1, *tau1, *dir1, *sg1, *st1;
     long *k1;
+    /* the residual in the solver's unknowns (vst_masing_residual) */
+    long n;                                   /* the soil's nodes */
+    const long *left;                         /* each element's left node among them */
+    const double *scale;                      /* dt / h */
+    const double *free;                       /* 1 where the node's rows take forces */
+    const double *V, *W;                      /* 2 x 2, row major */
+    const double *values;                     /* (n, 2): the unknowns z at the nodes */
+    double *rows;                             /* (n, 2): W r, free nodes only */
+    double *blocks;                           /* (ne, 2, 2): W (dt/h) dQ V, or NULL */
 } MasingSlab;
 
 static inline double sgn(double x) { return (x > 0.0) - (x < 0.0); }
@@ -204,6 +213,53 @@ static void element(const MasingSlab *m, long e, double *lg, double *lt)
         m->k1[e] = ke;
         memcpy(m->sg1 + e * m->depth, lg, (size_t)ke * sizeof(double));
         memcpy(m->st1 + e * m->depth, lt, (size_t)ke * sizeof(double));
+    }
+}
+
+/* W r and the tangent's element blocks from the unknowns z of the soil's
+ * nodes: v = V z per node, D_b = (dt/h)(v_right - v_left), the slab
+ * integrals, forces -Q on the left and +Q on the right node. */
+void vst_masing_residual(MasingSlab *m)
+{
+    const double *V = m->V, *W = m->W;
+    double *D = (double *)m->D;
+    for (long e = 0; e < m->ne; e++) {
+        const double *zl = m->values + 2 * m->left[e], *zr = zl + 2;
+        for (int a = 0; a < 2; a++) {
+            double vl = zl[0] * V[2 * a] + zl[1] * V[2 * a + 1];
+            double vr = zr[0] * V[2 * a] + zr[1] * V[2 * a + 1];
+            D[2 * e + a] = (vr - vl) * m->scale[e];
+        }
+    }
+    double lg[256], lt[256];
+    for (long e = 0; e < m->ne; e++)
+        element(m, e, lg, lt);
+    memset(m->rows, 0, (size_t)(2 * m->n) * sizeof(double));
+    for (long e = 0; e < m->ne; e++) {
+        long l = m->left[e];
+        for (int a = 0; a < 2; a++) {
+            m->rows[2 * l + a] -= m->Q[2 * e + a];
+            m->rows[2 * (l + 1) + a] += m->Q[2 * e + a];
+        }
+    }
+    for (long i = 0; i < m->n; i++) {
+        double f0 = m->rows[2 * i] * m->free[i], f1 = m->rows[2 * i + 1] * m->free[i];
+        m->rows[2 * i] = W[0] * f0 + W[1] * f1;
+        m->rows[2 * i + 1] = W[2] * f0 + W[3] * f1;
+    }
+    if (!m->blocks || !m->dQ)
+        return;
+    for (long e = 0; e < m->ne; e++) {
+        const double *T = m->dQ + 4 * e;
+        double S[4], WS[4];
+        for (int i = 0; i < 4; i++)
+            S[i] = m->scale[e] * T[i];
+        for (int a = 0; a < 2; a++)
+            for (int b = 0; b < 2; b++)
+                WS[2 * a + b] = W[2 * a] * S[b] + W[2 * a + 1] * S[2 + b];
+        for (int a = 0; a < 2; a++)
+            for (int b = 0; b < 2; b++)
+                m->blocks[4 * e + 2 * a + b] = WS[2 * a] * V[b] + WS[2 * a + 1] * V[2 + b];
     }
 }
 

@@ -18,7 +18,9 @@ class _Slab(ctypes.Structure):
     _fields_ = [("ne", ctypes.c_long), ("depth", ctypes.c_int), ("dt", ctypes.c_double)] + \
         [(name, _P) for name in ("G", "gref", "beta", "s", "area", "keh", "xg", "wg", "gamma",
                                  "tau", "dir", "sg", "st", "k", "D", "Q", "dQ", "gamma1",
-                                 "tau1", "dir1", "sg1", "st1", "k1")]
+                                 "tau1", "dir1", "sg1", "st1", "k1")] + \
+        [("n", ctypes.c_long)] + \
+        [(name, _P) for name in ("left", "scale", "free", "V", "W", "values", "rows", "blocks")]
 
 
 def _ptr(a):
@@ -31,8 +33,9 @@ class NativeMasing:
     closing a slab)."""
 
     def __init__(self, lib, soil):
-        lib.vst_masing_slab.argtypes = [_P]
-        lib.vst_masing_slab.restype = None
+        for name in ("vst_masing_slab", "vst_masing_residual"):
+            getattr(lib, name).argtypes = [_P]
+            getattr(lib, name).restype = None
         self.lib, self.soil = lib, soil
         bb = soil.backbone
         n = soil.elements.size
@@ -49,6 +52,35 @@ class NativeMasing:
         self.s.D, self.s.Q = _ptr(self.D), _ptr(self.Q)
         self.dQ_ptr = _ptr(self.dQ)
         self._state = None
+
+    def bind_residual(self, left, scale, free, V, W, n):
+        """The solver's side of :meth:`residual`: each element's left node
+        among the n gathered nodes, dt / h, the free nodes, V and W."""
+        self.coupling = [np.ascontiguousarray(left, dtype=np.int64),
+                         np.ascontiguousarray(scale, dtype=float),
+                         np.ascontiguousarray(free, dtype=float),
+                         np.ascontiguousarray(V, dtype=float).ravel(),
+                         np.ascontiguousarray(W, dtype=float).ravel()]
+        for name, arr in zip(("left", "scale", "free", "V", "W"), self.coupling):
+            setattr(self.s, name, _ptr(arr))
+        self.s.n = n
+        self.rows = np.zeros(2 * n)
+        self.blocks = np.zeros((self.D.shape[0], 2, 2))
+        self.values = np.zeros(2 * n)
+        self.s.rows, self.s.blocks, self.s.values = (_ptr(a) for a in (self.rows, self.blocks,
+                                                                       self.values))
+
+    def residual(self, values, dt, tangent):
+        """(rows W r, element blocks or None, D, Q) at the gathered unknowns
+        (copies), as SoilCoupling.residual computes them in numpy."""
+        self.values[:] = values
+        self._bind_state()
+        self.s.dt = dt
+        self.s.dQ = self.dQ_ptr if tangent else None
+        self.s.gamma1 = None
+        self.lib.vst_masing_residual(ctypes.byref(self.s))
+        return (self.rows.copy(), self.blocks.copy() if tangent else None,
+                self.D.copy(), self.Q.copy())
 
     def _bind_state(self):
         """Point the struct at the state's arrays (again only when the

@@ -6,13 +6,20 @@ equations are
 
     F(X) = A X - b + W r(V X) = 0,   J = A + W (dr/dv) V,
 
-A the linear slab matrix (its factors are computed once per run).  A SNES
-(prefix ``vst_``, every ``-snes_*`` option) solves them; each Newton step
-is a KSP (prefix ``vst_newton_``) on J, a shell, preconditioned by A's
-factors: GMRES by default (a few iterations: the soil softens J away from A
-only by its tangent), ``-newton_ksp_type preonly`` for modified Newton (one
-application of A's factors per step).  ``-vst_fd_jacobian`` replaces the
-tangent by central differences of r along the Krylov direction.
+A the linear slab matrix (its factors are computed once per run).  Each
+slab starts from A^{-1} (b - W r_last), r_last the last slab's soil forces.
+
+- :class:`PlainSoilNewton` (the default on one rank): Newton in a plain
+  loop, each step one application of the LU factors of J
+  (:class:`~vstpetsc.petsc.soil_coupling.TangentFactors`), factored anew
+  only when a step reduces |F| by less than 1/SLOW (the soil's tangent
+  changes little from slab to slab except near reversals);
+- :class:`SnesSoilNewton` (any ``-snes_*`` or ``-newton_*`` option,
+  ``-vst_fd_jacobian``, several ranks): a SNES (prefix ``vst_``) whose
+  Krylov solve (prefix ``vst_newton_``, GMRES) on J, a shell, is
+  preconditioned by the same factors (A's own on several ranks);
+  ``-newton_ksp_type preonly`` is modified Newton; ``-vst_fd_jacobian``
+  takes J's soil part from central differences of r.
 
 Every rank gathers the soil's nodes and evaluates every soil element (the
 state is the same on every rank).
@@ -23,94 +30,134 @@ import math
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc import slab
+from vstpetsc.errors import SolveFailed
+from vstpetsc.petsc.law_solver import wants_snes
 from vstpetsc.petsc.newton import solve_checked
 from vstpetsc.petsc.options import PREFIX
-from vstpetsc.petsc.space import DofGather
+from vstpetsc.petsc.soil_coupling import SoilCoupling, TangentFactors
 
-
-# the tangent is factored anew after a Newton step that took more Krylov
-# iterations than this, or reduced |F| by less than 1 / SLOW
-REFRESH = 2
+# the tangent is factored anew after a Newton step that reduced |F| by less
+# than 1 / SLOW, or (SNES) took more Krylov iterations than REFRESH
 SLOW = 0.1
+REFRESH = 2
+RTOL, MAX_IT = 1e-12, 50
 
 
-class SoilCoupling:
-    """The soil's nodes in the solver's space: from the unknowns X to the
-    elements' strain increments D (ne, 2), and element forces back to rows
-    (an incidence matrix: +1 on an element's right node, -1 on its left)."""
+class SoilNewton:
+    """What both Newtons share: the start, the convergence test, closing
+    the slab (the soil's state, the supports' work) and the carry."""
 
-    def __init__(self, soil, solver, fixed_nodes):
-        self.soil, self.dt = soil, solver.dt
-        nodes = soil.nodes
-        dofs = (2 * nodes[:, None] + np.arange(2)).ravel()
-        self.gather = DofGather(solver.X, dofs, solver.space.nodes)
-        self.left = np.searchsorted(nodes, soil.left)
-        self.right = self.left + 1
-        self.n = nodes.size
-        # rows of prescribed velocities are identities in A: no force there
-        self.free = (~np.isin(nodes, fixed_nodes)).astype(float)[:, None]
-        self.held = 1.0 - self.free
-        self.V, self.W = solver.V, solver.W
-        self.scale = (self.dt / soil.h)[:, None]            # D_b = dt (v_r^b - v_l^b) / h
+    def __init__(self, soil, solver, ops, fixed_nodes):
+        self.soil = soil
+        self.c = SoilCoupling(soil, solver, fixed_nodes)
+        self.factors = TangentFactors(self.c, solver, ops, fixed_nodes)
+        self.A, self.linear, self.dt = solver.A, solver.linear, solver.dt
+        self.carry = solver.carry
+        self.F, self.step = solver.X.duplicate(), solver.X.duplicate()
+        self.rows = np.zeros(2 * self.c.n)          # the converged slab's W r
+        self.evaluated = None
+        self.iterations = 0
 
-    def increments(self, values):
-        """D (ne, 2) from the gathered unknowns (z basis, per node)."""
-        v = values.reshape(-1, 2) @ self.V.T
-        return (v[self.right] - v[self.left]) * self.scale
+    def start(self, X, b):
+        """X -= A^{-1} W r_last (the predictor); the scale of the test."""
+        if self.rows.any():
+            self.F.zeroEntries()
+            self.c.gather.add_rows(self.F, self.rows)
+            self.linear.solve(self.F, self.step)
+            X.axpy(-1.0, self.step)
+        self.b = b
+        self.b_norm = b.norm()
+        self.evaluated = None
 
-    def node_forces(self, element_forces):
-        """Per node (n, 2), velocity basis, from per-element (ne, 2) forces
-        on the right node (the left node takes their negative; a node is
-        the left node of one element at most, and the right of one)."""
-        rows = np.zeros((self.n, 2))
-        rows[self.left] -= element_forces
-        rows[self.right] += element_forces
-        return rows
+    def function(self, X, F, tangent):
+        """F = A X - b + W r(X); returns the rows W r and the blocks."""
+        self.A.mult(X, F)
+        F.axpy(-1.0, self.b)
+        values = self.c.gather(X)
+        rows, blocks, D, Q = self.c.residual(values, tangent)
+        self.c.gather.add_rows(F, rows)
+        self.evaluated = (values, D, Q)
+        return rows, blocks
 
-    def rows(self, element_forces):
-        """W-mixed rows of the free nodes, in gathered order."""
-        return ((self.node_forces(element_forces) * self.free) @ self.W.T).ravel()
+    def converged(self, fnorm, rows, rtol=RTOL, atol=0.0):
+        return fnorm <= max(atol, rtol * (self.b_norm + np.linalg.norm(rows)))
 
-    def support_work(self, element_forces, values):
-        """The work of the supports that hold prescribed nodes against these
-        forces over the slab: sum_a f^a v^a at those nodes (the reactions of
-        the linear rows do not see them)."""
-        if not self.held.any():
-            return 0.0
-        v = values.reshape(-1, 2) @ self.V.T
-        return float(np.sum(self.node_forces(element_forces) * self.held * v))
+    def close(self, X):
+        """X is the slab's solution: the soil's state moves to the slab end."""
+        values = self.c.gather(X)
+        if self.evaluated is not None and np.array_equal(values, self.evaluated[0]):
+            _, D, Q = self.evaluated
+        else:
+            _, _, D, Q = self.c.residual(values, tangent=False)
+        self.rows = self.c.rows(Q)
+        self.soil.support_work += self.c.support_work(Q, values)
+        self.soil.finish(D[:, 0], D[:, 1], Q, self.dt)
+
+    def advance(self, b):
+        """The converged forces carried over in the running sum (as the
+        laws' terms: b += W (T - I) W^{-1} (W r))."""
+        self.c.gather.add_rows(b, (self.rows.reshape(-1, 2) @ self.carry.T).ravel())
 
 
-class MaterialNewton:
+class PlainSoilNewton(SoilNewton):
+    """Newton in a plain loop; tolerances from ``-snes_rtol``, ``-snes_atol``
+    and ``-snes_max_it`` as the laws' plain Newton reads them."""
+
+    def __init__(self, soil, solver, ops, fixed_nodes):
+        super().__init__(soil, solver, ops, fixed_nodes)
+        opts = PETSc.Options()
+        self.rtol = opts.getReal(PREFIX + "snes_rtol", RTOL)
+        self.atol = opts.getReal(PREFIX + "snes_atol", 0.0)
+        self.max_it = opts.getInt(PREFIX + "snes_max_it", MAX_IT)
+
+    def solve(self, X, b, slab_index):
+        self.start(X, b)
+        last = 0.0
+        for it in range(self.max_it + 1):
+            rows, blocks = self.function(X, self.F, tangent=True)
+            fnorm = self.F.norm()
+            if not math.isfinite(fnorm):
+                raise SolveFailed(f"slab {slab_index}: the soil's Newton diverged (|F| = {fnorm})")
+            if self.converged(fnorm, rows, self.rtol, self.atol):
+                break
+            if it == self.max_it:
+                raise SolveFailed(f"slab {slab_index}: the soil's Newton did not converge in "
+                                  f"{self.max_it} iterations (|F| = {fnorm:.3g})")
+            if not self.factors.fresh or (it > 0 and fnorm > SLOW * last):
+                self.factors.refresh(blocks)
+            last = fnorm
+            self.factors.solve(self.F, self.step)
+            X.axpy(-1.0, self.step)
+        self.iterations = it
+        self.close(X)
+        return it
+
+    def describe(self):
+        return "; soil: Newton on all unknowns, LU of the tangent (refreshed when slow)"
+
+
+class SnesSoilNewton(SoilNewton):
     """The SNES of slabs with a hysteretic soil."""
 
     def __init__(self, soil, solver, ops, fixed_nodes, fd_jacobian=False):
-        self.soil, self.c = soil, SoilCoupling(soil, solver, fixed_nodes)
-        self.factors = _Factors(self, solver, ops, fixed_nodes)
-        self.A, self.linear, self.dt = solver.A, solver.linear, solver.dt
+        super().__init__(soil, solver, ops, fixed_nodes)
         self.fd_jacobian = fd_jacobian
-        self.carry = solver.carry
-        self.F = solver.X.duplicate()
-        self.work_vec = solver.X.duplicate()
+        self.blocks = None
         J = PETSc.Mat().createPython(self.A.getSizes(), context=_Tangent(self),
                                      comm=solver.space.comm)
         J.setUp()
         self.J = J
         self.snes = self._snes(solver.space)
-        self.rows = np.zeros(2 * self.c.n)          # the converged slab's W r
-        self.dQ = None
         self.rate, self.last_fnorm = 0.0, 0.0
-        self.iterations = 0
 
     def _snes(self, space):
         snes = PETSc.SNES().create(comm=space.comm)
         snes.setOptionsPrefix(PREFIX)
         snes.setDM(space.da)
         snes.setType("newtonls")
-        snes.setFunction(self.formFunction, self.F)
+        snes.setFunction(self.formFunction, self.F.duplicate())
         snes.setJacobian(self.formJacobian, self.J, self.J)
-        snes.setTolerances(rtol=1e-12, atol=1e-50, stol=1e-14, max_it=50)
+        snes.setTolerances(rtol=RTOL, atol=1e-50, stol=1e-14, max_it=MAX_IT)
         snes.setConvergenceTest(self._converged)
         ksp = snes.getKSP()
         ksp.appendOptionsPrefix("newton_")
@@ -134,85 +181,51 @@ class MaterialNewton:
         return snes
 
     def _converged(self, snes, it, norms):
-        """|F| <= max(atol, rtol (|b| + |W r|)): a relative decrease alone
-        cannot be met when the start is already near the root."""
+        """:meth:`SoilNewton.converged` with the SNES's tolerances."""
         rtol, atol, _, max_it = snes.getTolerances()
         fnorm = norms[2]
-        # how much the last step reduced |F| (slow: stale factors)
         self.rate = fnorm / self.last_fnorm if it > 0 and self.last_fnorm > 0 else 0.0
         self.last_fnorm = fnorm
         R = snes.ConvergedReason
         if not math.isfinite(fnorm):
             return R.DIVERGED_FNORM_NAN
-        if fnorm <= max(atol, rtol * (self.b_norm + np.linalg.norm(self.last_rows))):
+        if self.converged(fnorm, self.last_rows, rtol, atol):
             return R.CONVERGED_FNORM_ABS if fnorm <= atol else R.CONVERGED_FNORM_RELATIVE
         return R.DIVERGED_MAX_IT if it >= max_it else R.ITERATING
 
-    def residual_rows(self, X, tangent):
-        """W r(X) in gathered order (and dQ/dD kept when ``tangent``)."""
-        values = self.c.gather(X)
-        D = self.c.increments(values)
-        Q, dQ = self.soil.slab(D[:, 0], D[:, 1], self.dt, tangent)
-        if tangent:
-            self.dQ = dQ
-        self.evaluated = (values, D, Q)
-        return self.c.rows(Q)
-
     def formFunction(self, snes, X, F):
-        self.A.mult(X, F)
-        F.axpy(-1.0, self.b)
-        self.last_rows = self.residual_rows(X, not self.fd_jacobian)
-        self.c.gather.add_rows(F, self.last_rows)
-        self.X_at = X
+        self.last_rows, blocks = self.function(X, F, not self.fd_jacobian)
+        if blocks is not None:
+            self.blocks = blocks
 
     def formJacobian(self, snes, X, J, P):
-        if not self.fd_jacobian and (snes.getKSP().getIterationNumber() > REFRESH
-                                     or self.rate > SLOW):
-            self.factors.refresh(self.dQ)
         if self.fd_jacobian:
             self.X_at = X.copy()
             self.h = 1e-7 * max(1.0, X.norm(PETSc.NormType.INFINITY))
+        elif snes.getKSP().getIterationNumber() > REFRESH or self.rate > SLOW:
+            self.factors.refresh(self.blocks)
 
     def solve(self, X, b, slab_index):
-        """Newton from X (A^{-1} b) less A^{-1} of the last slab's soil
-        forces (a predictor: they change little from slab to slab): X
-        becomes the slab's solution; the soil's state moves to the slab end.
-        Returns the iterations."""
-        if self.rows.any():
-            self.F.zeroEntries()
-            self.c.gather.add_rows(self.F, self.rows)
-            self.linear.solve(self.F, self.work_vec)
-            X.axpy(-1.0, self.work_vec)
-        self.b = b
-        self.b_norm = b.norm()
+        self.start(X, b)
         self.last_rows = np.zeros(2 * self.c.n)
-        self.evaluated = (None, None, None)
         self.iterations = solve_checked(self.snes, X, slab_index)
-        values = self.c.gather(X)
-        if np.array_equal(values, self.evaluated[0]):   # SNES's last evaluation
-            _, D, Q = self.evaluated
-        else:
-            D = self.c.increments(values)
-            Q, _ = self.soil.slab(D[:, 0], D[:, 1], self.dt, tangent=False)
-        self.rows = self.c.rows(Q)
-        self.soil.support_work += self.c.support_work(Q, values)
-        self.soil.finish(D[:, 0], D[:, 1], Q, self.dt)
+        self.close(X)
         return self.iterations
 
-    def advance(self, b):
-        """The converged forces carried over in the running sum (as the
-        laws' terms: b += W (T - I) W^{-1} (W r))."""
-        self.c.gather.add_rows(b, (self.rows.reshape(-1, 2) @ self.carry.T).ravel())
+    def residual_rows(self, X):
+        """W r at X (for the finite-difference tangent)."""
+        return self.c.residual(self.c.gather(X), tangent=False)[0]
 
     def describe(self):
         kind = self.snes.getKSP().getType()
-        return f"; soil: SNES {self.snes.getType()} on all unknowns, steps by " \
-               f"{'modified Newton (A factors)' if kind == 'preonly' else kind + ' on A factors'}"
+        steps = "modified Newton" if kind == "preonly" else kind
+        return f"; soil: SNES {self.snes.getType()} on all unknowns, steps by {steps} " \
+               "on the tangent's factors"
 
 
 class _Tangent:
-    """y = J x = A x + W (dr/dv) V x, from the element tangents dQ/dD of the
-    last function evaluation (or central differences of r)."""
+    """y = J x = A x + W (dr/dv) V x, from the element blocks of the last
+    function evaluation (or central differences of r)."""
 
     def __init__(self, newton):
         self.n = newton
@@ -223,83 +236,17 @@ class _Tangent:
         if n.fd_jacobian:
             c.gather.add_rows(y, self._fd(x))
             return
-        D = c.increments(c.gather(x))
-        forces = np.einsum("eab,eb->ea", n.dQ, D)
-        c.gather.add_rows(y, c.rows(forces))
+        c.gather.add_rows(y, c.tangent_rows(n.blocks, c.gather(x)))
 
     def _fd(self, x):
         n = self.n
         h = n.h / max(1e-300, x.norm(PETSc.NormType.INFINITY))
         out = []
         for sign in (1.0, -1.0):
-            n.X_at.copy(n.work_vec)
-            n.work_vec.axpy(sign * h, x)
-            out.append(n.residual_rows(n.work_vec, False))
+            n.X_at.copy(n.step)
+            n.step.axpy(sign * h, x)
+            out.append(n.residual_rows(n.step))
         return (out[0] - out[1]) / (2.0 * h)
-
-
-class _Factors:
-    """The preconditioner: A's factors until the Krylov iterations grow,
-    then (on one rank) the LU factors of the assembled tangent, refreshed
-    whenever a step took more than :data:`REFRESH` iterations: the soil's
-    tangent changes little from slab to slab except near reversals."""
-
-    def __init__(self, newton, solver, ops, fixed_nodes):
-        self.n, self.linear = newton, solver.linear
-        self.fresh = False
-        self.refreshes = 0
-        self.P = None
-        if solver.space.comm.getSize() > 1:      # A's (parallel) factors only
-            return
-        from vstpetsc.petsc.matrices import block_matrix
-
-        fixed = (2 * np.asarray(fixed_nodes, dtype=int)[:, None] + np.arange(2)).ravel()
-        blocks = slab.impose_dirichlet(slab.slab_matrix(ops, solver.dt, solver.W, solver.V),
-                                       fixed, 1.0)
-        n0, n1 = solver.space.nodes
-        self.P = block_matrix(blocks, (n0, n1), solver.space.comm)
-        self.lu = PETSc.PC().create(comm=solver.space.comm)
-        self.lu.setType("lu")
-        self.lu.setOperators(self.P, self.P)
-        indptr, indices, data = slab.block_rows_bcsr(blocks, n0, n1)
-        self.csr = (indptr.astype(PETSc.IntType), indices.astype(PETSc.IntType))
-        self.data = np.ascontiguousarray(data)
-        self.base = self.data.copy()
-        # where each soil element's four blocks sit in the block CSR data
-        slot = lambda row, col: indptr[row] + np.searchsorted(indices[indptr[row]:indptr[row + 1]], col)
-        gl = newton.soil.left
-        self.at = {key: np.array([slot(r, c) for r, c in pairs], dtype=int)
-                   for key, pairs in (("ll", zip(gl, gl)), ("lr", zip(gl, gl + 1)),
-                                      ("rr", zip(gl + 1, gl + 1)), ("rl", zip(gl + 1, gl)))}
-        c = newton.c
-        self.lf = c.free[c.left, 0][:, None, None]
-        self.rf = c.free[c.right, 0][:, None, None]
-        self.scale = (solver.dt / newton.soil.h)[:, None, None]
-        self.W, self.V = solver.W, solver.V
-
-    def refresh(self, dQ):
-        """Factor A + W (dr/dv) V for the element tangents dQ."""
-        if self.P is None:
-            return
-        B = self.W @ (self.scale * dQ) @ self.V
-        data, at = self.data, self.at
-        data[...] = self.base
-        left, right = self.lf * B, self.rf * B
-        data[at["ll"]] += left
-        data[at["lr"]] -= left
-        data[at["rr"]] += right
-        data[at["rl"]] -= right
-        self.P.setValuesBlockedCSR(*self.csr, data.ravel())
-        self.P.assemble()
-        self.lu.setUp()
-        self.fresh = True
-        self.refreshes += 1
-
-    def apply(self, pc, r, y):
-        if self.fresh:
-            self.lu.apply(r, y)
-        else:
-            self.linear.solve(r, y)
 
 
 def of(model, solver, options, fixed_nodes):
@@ -307,17 +254,16 @@ def of(model, solver, options, fixed_nodes):
     soil = getattr(model, "soil", None)
     if soil is None:
         return None
-    if model.nonlinear:
-        from vstpetsc.errors import InputError
-        raise InputError("body.shear_law: a hysteretic soil together with contact, friction "
-                         "or soil-spring laws in one case is not supported yet")
     soil.native = None
     if options.native:
         from vstpetsc import native
 
         lib = native.library()
-        if lib is not None and hasattr(lib, "vst_masing_slab"):
+        if lib is not None and hasattr(lib, "vst_masing_residual"):
             from vstpetsc.native.masing import NativeMasing
 
             soil.native = NativeMasing(lib, soil)
-    return MaterialNewton(soil, solver, model.ops, fixed_nodes, options.fd_jacobian)
+    serial = solver.space.comm.getSize() == 1
+    if serial and not options.fd_jacobian and not wants_snes():
+        return PlainSoilNewton(soil, solver, model.ops, fixed_nodes)
+    return SnesSoilNewton(soil, solver, model.ops, fixed_nodes, options.fd_jacobian)
