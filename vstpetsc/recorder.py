@@ -108,7 +108,7 @@ class Recorder:
             out[layout.NEWTON_STATE] = self.solver.nonlinear.state()
             out[layout.ENERGY_STATE] = sums
             if self.model.soil is not None:
-                out[layout.SOIL_STATE] = self.model.soil.snapshot()
+                out[layout.SOIL_STATE] = self.solver.soil_state()
         return out
 
     def gauge_row(self):

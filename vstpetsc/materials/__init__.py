@@ -69,4 +69,5 @@ def build(model_bodies, mesh):
         law = getattr(model_bodies[axial], "shear_law", None)
         if law:
             parts[twin] = law
-    return HystereticSoil.of(parts, mesh) if parts else None
+    soil = HystereticSoil.of(parts, mesh) if parts else None
+    return soil if soil is not None and soil.elements.size else None

@@ -50,6 +50,16 @@ def read_part(chk, tbl, where, x):
     if span[0] > span[1]:
         chk.add(f"{where}.to", f"must be >= from ({span[0]:g}), got {span[1]:g}")
         return None
+    if x and (span[1] < x[0] or span[0] > x[1]):
+        chk.add(f"{where}.from", f"[{span[0]:g}, {span[1]:g}] covers no part of the body "
+                f"([{x[0]:g}, {x[1]:g}])")
+        return None
+    if params["s"].f.max() > 1.0:
+        # beyond 1 the backbone turns down at large strain (its slope
+        # 1 + beta (1 - s) X changes sign): no unique response
+        chk.add(f"{where}.s", f"must be <= 1 (the backbone would soften beyond its peak), "
+                f"got {params['s'].f.max():g}")
+        return None
     return MKZPart(**params, x_from=span[0], x_to=span[1])
 
 

@@ -19,10 +19,20 @@ SINGLETON_MPI = {"OMPI_MCA_ess_singleton_isolated": "1", "OMPI_MCA_pml": "ob1",
 LAUNCHED = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "PMI_RANK")
 
 
+# the options that PETSc was started with by initialize(): a run's own,
+# which its scoped() block removes again (except those read when PETSc
+# ends, such as -log_view), so that later runs of the process do not
+# inherit them
+STARTED_WITH = set()
+AT_FINALIZE = ("log_", "malloc", "memory_", "options_left", "info")
+
+
 def initialize(args=()):
     """Start PETSc (with ``args`` as its command line if it has not started
     yet) and return the PETSc module."""
     if "petsc4py.PETSc" not in sys.modules:
+        STARTED_WITH.update(a.lstrip("-") for a in args
+                            if a.startswith("-") and not a.lstrip("-").startswith(AT_FINALIZE))
         if not any(var in os.environ for var in LAUNCHED) and "mpi4py.MPI" not in sys.modules:
             for key, value in SINGLETON_MPI.items():
                 os.environ.setdefault(key, value)

@@ -71,11 +71,16 @@ def scoped(args):
     """Set the (prefixed) options ``args`` for the duration of the block."""
     from petsc4py import PETSc
 
+    from vstpetsc import petsc
+
     opts = PETSc.Options()
     saved = []
     for name, value in parse(args):
         name = prefixed(name)
-        saved.append((name, opts.getString(name) if opts.hasName(name) else False))
+        # put there by this run's own start of PETSc: not the user's
+        ours = name in petsc.STARTED_WITH
+        petsc.STARTED_WITH.discard(name)
+        saved.append((name, opts.getString(name) if opts.hasName(name) and not ours else False))
         opts.setValue(name, "" if value is None else value)
     try:
         yield

@@ -228,7 +228,17 @@ class SlabSolver:
         if ENERGY_STATE in state:
             self._restore_sums(state[ENERGY_STATE])
         if SOIL_STATE in state and self.material is not None:
-            self.material.soil.restore(state[SOIL_STATE])
+            saved = state[SOIL_STATE]
+            size = self.material.soil.snapshot().size
+            self.material.soil.restore(saved[:size])
+            self.material.restore(saved[size:])
+
+    def soil_state(self):
+        """A hysteretic soil's state and its Newton's start (None without
+        one; the same on every rank)."""
+        if self.material is None:
+            return None
+        return np.concatenate([self.material.soil.snapshot(), self.material.state()])
 
     def energy_sums(self):
         """The running sums of the energy terms (energy.SUMS order), then

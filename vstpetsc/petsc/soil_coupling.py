@@ -87,6 +87,7 @@ class TangentFactors:
     def __init__(self, coupling, solver, ops, fixed_nodes):
         self.linear = solver.linear
         self.fresh = False
+        self.blocks = np.zeros((coupling.soil.left.size, 2, 2))     # of the last refresh
         self.P = None
         if solver.space.comm.getSize() > 1:
             return
@@ -122,6 +123,7 @@ class TangentFactors:
         """Factor A + the tangent of the element ``blocks``."""
         if self.P is None:
             return
+        self.blocks[...] = blocks
         data, at = self.data, self.at
         data[...] = self.base
         left, right = self.lf * blocks, self.rf * blocks
