@@ -80,7 +80,7 @@ def test_run_returns_a_lazy_result(tmp_path):
     assert pair.impulse_total[-1] == pytest.approx(2.0, rel=1e-2)
     assert pair.attrs["formulation"] == "power" and result.run.slabs == 250
     assert set(result.energy) == {"kinetic", "strain", "spring", "damping", "external", "contact",
-                                  "soil", "transferred", "friction", "numerical"}
+                                  "soil", "transferred", "friction", "hysteretic", "numerical"}
     summary = result.summary()
     assert summary["status"] == "completed" and summary["pairs"][0]["episodes"] == 1
     again = vstpetsc.Result(result.path)
