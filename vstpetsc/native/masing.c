@@ -112,39 +112,52 @@ static void element(const MasingSlab *m, long e, double *lg, double *lt)
 
     double Q[2] = {0.0, 0.0}, dQ[2][2] = {{0.0, 0.0}, {0.0, 0.0}}, dQcut[2] = {0.0, 0.0};
     const double ic[2] = {cut - 0.5 * cut * cut, 0.5 * cut * cut};
-    const double gc = strain(gn, D1, D2, cut);
-    double tc, slope_c;
-    long kc = depth_at(lg, k, gc, d1);
-    stress(m, e, lg, lt, kc, gc, &tc, &slope_c);
+    /* the turning point (only where the strain turns inside the slab) */
+    double tc = 0.0, slope_c = 0.0;
+    long kc = k;
+    if (reverses) {
+        const double gc = strain(gn, D1, D2, cut);
+        kc = depth_at(lg, k, gc, d1);
+        stress(m, e, lg, lt, kc, gc, &tc, &slope_c);
+    }
 
     /* the first piece from the start's stack; the second from the stack
-     * after the turn (pushed only where the strain turns inside) */
+     * after the turn (pushed only where the strain turns inside); a piece
+     * of length 0 (a slab that does not turn) adds exact zeros in the
+     * Python reference and is skipped here */
     double tau_p[2][GP], slope_p[2][GP], th_p[2][GP], g_p[2][GP];
     int new_branch[GP] = {0};
-    for (int q = 0; q < GP; q++) {
-        double th = cut * m->xg[q];
-        double g = strain(gn, D1, D2, th);
-        long kq = depth_at(lg, k, g, d1);
-        stress(m, e, lg, lt, kq, g, &tau_p[0][q], &slope_p[0][q]);
-        th_p[0][q] = th;
-        g_p[0][q] = g;
+    const int has[2] = {cut > 0.0, cut < 1.0};
+    if (has[0]) {
+        for (int q = 0; q < GP; q++) {
+            double th = cut * m->xg[q];
+            double g = strain(gn, D1, D2, th);
+            long kq = depth_at(lg, k, g, d1);
+            stress(m, e, lg, lt, kq, g, &tau_p[0][q], &slope_p[0][q]);
+            th_p[0][q] = th;
+            g_p[0][q] = g;
+        }
     }
     long k2 = k;
     if (reverses) {
         k2 = kc;
-        push(lg, lt, &k2, m->depth, gc, tc);
+        push(lg, lt, &k2, m->depth, strain(gn, D1, D2, cut), tc);
     }
-    for (int q = 0; q < GP; q++) {
-        double th = cut + (1.0 - cut) * m->xg[q];
-        double g = strain(gn, D1, D2, th);
-        long kq = depth_at(lg, k2, g, d2);
-        stress(m, e, lg, lt, kq, g, &tau_p[1][q], &slope_p[1][q]);
-        th_p[1][q] = th;
-        g_p[1][q] = g;
-        new_branch[q] = reverses && kq == k2;
+    if (has[1]) {
+        for (int q = 0; q < GP; q++) {
+            double th = cut + (1.0 - cut) * m->xg[q];
+            double g = strain(gn, D1, D2, th);
+            long kq = depth_at(lg, k2, g, d2);
+            stress(m, e, lg, lt, kq, g, &tau_p[1][q], &slope_p[1][q]);
+            th_p[1][q] = th;
+            g_p[1][q] = g;
+            new_branch[q] = reverses && kq == k2;
+        }
     }
 
     for (int j = 0; j < 2; j++) {
+        if (!has[j])
+            continue;
         const double len = j == 0 ? cut : 1.0 - cut;
         for (int a = 0; a < 2; a++) {
             double sum = 0.0;

@@ -79,8 +79,9 @@ class NativeMasing:
         self.s.dQ = self.dQ_ptr if tangent else None
         self.s.gamma1 = None
         self.lib.vst_masing_residual(ctypes.byref(self.s))
-        return (self.rows.copy(), self.blocks.copy() if tangent else None,
-                self.D.copy(), self.Q.copy())
+        # rows and blocks are used before the next call (the factors copy
+        # the blocks they keep); D and Q outlive it
+        return self.rows, (self.blocks if tangent else None), self.D.copy(), self.Q.copy()
 
     def _bind_state(self):
         """Point the struct at the state's arrays (again only when the
