@@ -67,6 +67,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/run.py
 	$(PY) bench/opensees.py
 	$(PY) bench/parallel_solvers.py
+	$(PY) bench/soil_cost.py
 
 bench-quick: install
 	$(PY) bench/run.py --quick --out bench/quick

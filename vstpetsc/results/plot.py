@@ -218,20 +218,23 @@ def stress_profile(ax, r, u, profiles):
         for key, style in (("stress_min", "--"), ("stress_max", "-")):
             ax.step(p["x"], np.append(p[key], p[key][-1]), style, where="post",
                     label=f"{name} {key[7:]} ({_profile_label(p)})")
-    ax.set_xlabel(f"x [{u['length']}]")
-    ax.set_ylabel(f"stress [{u['force']}/{u['length']}^2]")
-    ax.set_title("peak stress (envelopes)")
-    ax.legend(fontsize=8)
-    return ax
+    return _profile_axes(ax, u, f"stress [{u['force']}/{u['length']}^2]",
+                         "peak stress (envelopes)")
 
 
 def acceleration_profile(ax, r, u, profiles):
     """The largest |acceleration| of every node over the kept rows."""
     for name, p in profiles.items():
         ax.plot(p["x"], p["acceleration"], label=f"{name} ({_profile_label(p)})")
+    return _profile_axes(ax, u, f"peak |acceleration| [{u['length']}/{u['time']}^2]",
+                         "peak acceleration (kept rows)")
+
+
+def _profile_axes(ax, u, ylabel, title):
+    """x along the bodies, ``ylabel``, ``title``, a legend."""
     ax.set_xlabel(f"x [{u['length']}]")
-    ax.set_ylabel(f"peak |acceleration| [{u['length']}/{u['time']}^2]")
-    ax.set_title("peak acceleration (kept rows)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
     ax.legend(fontsize=8)
     return ax
 
