@@ -7,7 +7,7 @@ SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # Debian's PETSc 3.18 (real scalars; libpetsc-real3.18-dev provides the
 # /usr/lib/petsc alternative that petsc4py's .pth file looks for).
 DEBS  := python3-petsc4py python3-mpi4py python3-h5py python3-numpy python3-scipy \
-         python3-matplotlib python3-pytest python3-hypothesis python3-venv \
+         python3-matplotlib python3-pytest python3-pytest-xdist python3-hypothesis python3-venv \
          python3-setuptools python3-pip libpetsc-real3.18-dev openmpi-bin gcc libc6-dev
 STAMP := $(VENV)/.installed
 # the compiled kernels (vstpetsc/native: the Newton for penalty pairs, the
@@ -43,8 +43,9 @@ demo: install
 	$(VENV)/bin/vstpetsc run examples/bar-wall.toml -o demo.h5
 	@echo "demo result written to $$(pwd)/demo.h5"
 
+# two workers (pytest-xdist), the modules that start several ranks on one of them
 test: install
-	$(PY) -m pytest -q tests
+	$(PY) -m pytest -q -n 2 --dist loadgroup tests
 
 clean:
 	rm -rf $(VENV) build *.egg-info demo.h5 $(NATIVE)

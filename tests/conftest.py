@@ -84,3 +84,16 @@ def compliance_delay(r, impedance):
     else:                    # the seed's eps dt / 2: its slab-mean force per penetration
         k = a["penalty"] * (0.5 * r.attrs["dt"] if a["formulation"] == "seed" else 1.0)
     return 2.0 * impedance / k
+
+
+# Modules that start runs on several ranks: under `pytest -n 2` (make test)
+# they share one worker, so that at most one mpirun runs at a time and the
+# two cores are not asked for four ranks at once.
+MPI_MODULES = {"test_parallel", "test_energy_restart", "test_events", "test_mkz", "test_bench",
+               "test_reliability", "test_sweep_faults", "test_sweep"}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if item.module.__name__ in MPI_MODULES:
+            item.add_marker(pytest.mark.xdist_group("mpi"))
