@@ -24,6 +24,7 @@ class HystereticSoil:
         self.ke_h = ke[elements] * self.h
         self.backbone = masing.Backbone(self.G, gamma_ref, beta, s)
         self.state = None
+        self.version = 0           # counts the states taken (the compiled kernel rebinds)
         self.path = None
         self.native = None         # the compiled kernel (vstpetsc.native.masing), if used
         self.work = 0.0            # the correction forces' work so far
@@ -56,6 +57,7 @@ class HystereticSoil:
         """The state at t = 0 from the displacements (global nodes)."""
         gamma = (u[self.left + 1] - u[self.left]) / self.h
         self.state = masing.MasingState(self.backbone, gamma)
+        self.version += 1
         tau = self.state.tau
         self.tau_min, self.tau_max = tau.copy(), tau.copy()
         self.strain_max = np.abs(gamma)
@@ -81,6 +83,7 @@ class HystereticSoil:
         else:
             gamma, tau, st.stack, direction = self.path.end()
         st.gamma, st.tau, st.direction = gamma, tau, direction
+        self.version += 1
         np.minimum(self.tau_min, tau, out=self.tau_min)
         np.maximum(self.tau_max, tau, out=self.tau_max)
         np.maximum(self.strain_max, np.abs(gamma), out=self.strain_max)
@@ -119,6 +122,7 @@ class HystereticSoil:
         parts = np.split(flat[1:1 + 7 * n], 7)
         st = self.state
         st.gamma, st.tau, st.direction = parts[0].copy(), parts[1].copy(), parts[2].copy()
+        self.version += 1
         st.stack.k = parts[3].astype(np.int64)
         self.tau_min, self.tau_max, self.strain_max = (p.copy() for p in parts[4:])
         rest = flat[1 + 7 * n:]

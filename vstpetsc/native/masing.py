@@ -86,12 +86,12 @@ class NativeMasing:
     def _bind_state(self):
         """Point the struct at the state's arrays (again only when the
         state holds new ones: after a slab closes)."""
+        if self._state is not None and self._state[0] == self.soil.version:
+            return
         st = self.soil.state
         arrays = (st.gamma, st.tau, st.direction, st.stack.g, st.stack.t, st.stack.k)
-        if self._state is not None and all(a is b for a, b in zip(arrays, self._state[0])):
-            return
         kept = tuple(np.ascontiguousarray(a) for a in arrays)
-        self._state = (arrays, kept)
+        self._state = (self.soil.version, kept)
         for name, arr in zip(("gamma", "tau", "dir", "sg", "st", "k"), kept):
             setattr(self.s, name, _ptr(arr))
 

@@ -54,6 +54,9 @@ class SoilNewton:
         self.A, self.linear, self.dt = solver.A, solver.linear, solver.dt
         self.carry = solver.carry
         self.F, self.step = solver.X.duplicate(), solver.X.duplicate()
+        # one rank: the plain loop reads X and writes F through numpy arrays
+        self.X_array = solver.x
+        self.F_plain, self.F_array = solver.space.array_vector()
         self.rows = np.zeros(2 * self.c.n)          # the converged slab's W r
         self.evaluated = None
         self.iterations = 0
@@ -70,8 +73,10 @@ class SoilNewton:
         self.ax_norm = None
         self.evaluated = None
 
-    def function(self, X, F, tangent):
-        """F = A X - b + W r(X); returns the rows W r and the blocks."""
+    def function(self, X, F, tangent, arrays=None):
+        """F = A X - b + W r(X); returns the rows W r and the blocks;
+        ``arrays``: (X's, F's) numpy arrays (one rank) to read and write
+        the soil's dofs without a scatter."""
         self.A.mult(X, F)
         first = self.ax_norm is None
         if first:
@@ -80,9 +85,13 @@ class SoilNewton:
             # fall below their rounding (the slab's first iterate suffices)
             self.ax_norm = F.norm()
         F.axpy(-1.0, self.b)
-        values = self.c.gather(X)
+        local = self.c.local
+        values = self.c.gather(X) if arrays is None else np.take(arrays[0], local)
         rows, blocks, D, Q = self.c.residual(values, tangent)
-        self.c.gather.add_rows(F, rows)
+        if arrays is None:
+            self.c.gather.add_rows(F, rows)
+        else:
+            arrays[1][local] += rows
         self.evaluated = (values, D, Q)
         if first:
             soil = self.soil
@@ -91,8 +100,11 @@ class SoilNewton:
         return rows, blocks
 
     def converged(self, fnorm, rows, rtol=RTOL, atol=0.0):
-        scale = self.b_norm + self.ax_norm + self.element_norm + np.linalg.norm(rows)
+        scale = self.b_norm + self.ax_norm + self.element_norm + self.rows_norm(rows)
         return fnorm <= max(atol, rtol * scale)
+
+    def rows_norm(self, rows):
+        return float(np.sqrt(rows.dot(rows)))
 
     def close(self, X):
         """X is the slab's solution: the soil's state moves to the slab end."""
@@ -137,9 +149,11 @@ class PlainSoilNewton(SoilNewton):
     def solve(self, X, b, slab_index):
         self.start(X, b)
         last = 0.0
+        F = self.F_plain
+        arrays = None if self.c.local is None else (self.X_array, self.F_array)
         for it in range(self.max_it + 1):
-            rows, blocks = self.function(X, self.F, tangent=True)
-            fnorm = self.F.norm()
+            rows, blocks = self.function(X, F, True, arrays)
+            fnorm = F.norm()
             if not math.isfinite(fnorm):
                 raise SolveFailed(f"slab {slab_index}: the soil's Newton diverged (|F| = {fnorm})")
             if self.converged(fnorm, rows, self.rtol, self.atol):
@@ -150,7 +164,7 @@ class PlainSoilNewton(SoilNewton):
             if not self.factors.fresh or (it > 0 and fnorm > SLOW * last):
                 self.factors.refresh(blocks)
             last = fnorm
-            self.factors.solve(self.F, self.step)
+            self.factors.solve(F, self.step)
             X.axpy(-1.0, self.step)
         self.iterations = it
         self.close(X)

@@ -21,6 +21,8 @@ class SoilCoupling:
         nodes = soil.nodes
         dofs = (2 * nodes[:, None] + np.arange(2)).ravel()
         self.gather = DofGather(solver.X, dofs, solver.space.nodes)
+        # one rank: the dofs' places in the solver's own arrays
+        self.local = self.gather.local if solver.space.comm.getSize() == 1 else None
         self.left = np.searchsorted(nodes, soil.left)
         self.right = self.left + 1
         self.n = nodes.size
