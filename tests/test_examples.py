@@ -426,7 +426,8 @@ def site_numbers(r):
             "period_ratio": period[np.argmax(ratio)], "ratio_short": ratio[short].mean(),
             "freq": freq, "transfer": transfer,
             "freq_transfer": freq[band][np.argmax(transfer[band])],
-            "x_mid": mid, "strain": strain, "gamma_ref": gamma_ref,
+            "transfer_peak": transfer[band].max(),
+            "x": x, "x_mid": mid, "strain": strain, "gamma_ref": gamma_ref,
             "strain_max": strain.max(), "yield": (strain / gamma_ref).max(), **e}
 
 
@@ -441,7 +442,11 @@ def test_nonlinear_site_yields_under_the_strong_record(results, tmp_path):
     shaking strains the soil far beyond gamma_ref, so the column softens
     and dissipates by hysteresis: less amplification of the peak
     acceleration and of short periods, the site's peak at longer periods;
-    the weak one stays below gamma_ref everywhere (nearly linear)."""
+    the weak one stays below gamma_ref everywhere, nearly linear: its
+    spectral ratio peaks at the first resonance of the linear elastic
+    column (Thomson-Haskell, tests/test_site_profile.py)."""
+    from test_site_profile import haskell
+
     strong = results["nonlinear-site"]
     weak = weak_nonlinear_site(strong, tmp_path)
     assert weak.status == "completed"
@@ -460,6 +465,10 @@ def test_nonlinear_site_yields_under_the_strong_record(results, tmp_path):
     assert s["ratio_short"] < w["ratio_short"]
     assert s["period_ratio"] > w["period_ratio"]
     assert s["yield"] > 1.0 and w["yield"] < 1.0
+    doc = strong.case().to_dict()
+    f = np.linspace(0.5, 5.0, 45001)
+    linear = haskell(f, doc["body"][0]["layers"], doc["bc"][0]["rock"])
+    assert abs(w["period_ratio"] * f[np.argmax(linear)] - 1) < 0.1
     for n in (s, w):
         assert 0.0 <= n["numerical"] < 1e-3 * n["external"]
     assert s["hysteretic"] > 0.0
