@@ -3,6 +3,7 @@ bundled file, run to completion, and its physics against the exact solution
 computed from the case's own data (formulation.md section 7)."""
 
 import os
+import re
 
 import numpy as np
 import pytest
@@ -484,7 +485,26 @@ def test_plot_of_a_site_has_gauge_and_profile_panels(results, tmp_path):
     p = cli("plot", path, "-o", tmp_path / "site.png")
     assert p.returncode == 0, p.stderr
     assert (tmp_path / "site.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    titles = [ax.get_title() for ax in result_figure(path).axes]
+    fig = result_figure(path)
+    titles = [ax.get_title() for ax in fig.axes]
+    energy = [ax for ax in fig.axes if ax.get_title().endswith("energy")][0]
+    assert "hysteretic (summed)" in [line.get_label() for line in energy.get_lines()]
     for part in ("gauge acceleration", "response spectrum, 5 % damping: gauge surface (shear)",
                  "peak |strain|", "peak stress", "peak acceleration"):
         assert any(part in t for t in titles), (part, titles)
+
+
+def test_info_balance_of_a_site_counts_hysteresis(results):
+    """`vstpetsc info`'s balance line closes with the soil's hysteresis:
+    initial + external = the terms it lists + numerical."""
+    r = results["nonlinear-site"]
+    p = cli("info", r.path)
+    assert p.returncode == 0, p.stderr
+    line = [x for x in p.stdout.splitlines() if "energy balance:" in x][0]
+    left, right = line.split(" = ")
+    came = sum(float(v) for v in _numbers(r"initial (\S+) \+ external (\S+)", left))
+    terms = dict((k, float(v)) for k, v in re.findall(r"(\w+) (-?[\d.e+-]+)",
+                                                         right.split(" (")[0]))
+    e = r.energy
+    assert terms["hysteretic"] == pytest.approx(e["hysteretic"][-1], rel=1e-3)
+    assert sum(terms.values()) == pytest.approx(came, rel=1e-3)
