@@ -15,6 +15,16 @@ dam-interface-motion.csv: the two outcrop accelerations of the dam-interface
 example, bursts of sines under a sin^2 envelope over 2 s, then rest:
 horizontal 6 sin(2 pi 2 t), vertical 14 sin(2 pi 3 t) m/s^2.
 
+nonlinear-site-motion.csv: a synthetic earthquake-like rock-outcrop
+acceleration for the nonlinear-site example, Boore's (2003) stochastic
+recipe: Gaussian noise (fixed seed) under a Saragoni-Hart envelope
+(t^a exp(-b t), peak at 2.5 s, down to 5 % at 9 s), its Fourier amplitudes
+shaped by a Brune omega-squared source spectrum
+(corner frequency 0.3 Hz) with high-frequency decay exp(-pi kappa f)
+(kappa = 0.04 s) and a 0.1 Hz low-cut, 12 s at 200 Hz, tapered at both
+ends, its trapezoidal integral returning to rest at the end, scaled to a
+peak of 1 g = 9.81 m/s^2 (a case's `scale` is then the peak in g).
+
 uplift-base.csv: the base velocity of the uplift example, 0.5 (1 - cos(2 pi 5
 t)) m/s for two cycles, then at rest, sampled at 2 kHz (its acceleration
 0.5 w sin(w t) starts from zero).
@@ -50,6 +60,32 @@ def record(seed=20261123, duration=DURATION, peak=PEAK):
     return t, acc
 
 
+def earthquake(seed=20260228, duration=12.0, corner=0.3, kappa=0.04, low_cut=0.1):
+    """(t, acc) of nonlinear-site-motion.csv: peak 1 g, ends at rest."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, duration + DT / 2, DT)
+    # Saragoni-Hart envelope t^a exp(-b t): largest at a / b, 5 % of it at 9 s
+    a = 2.0
+    b = a / 2.5
+    envelope = (t * b / a) ** a * np.exp(a - b * t)
+    spectrum = np.fft.rfft(rng.normal(size=t.size) * envelope)
+    f = np.fft.rfftfreq(t.size, DT)
+    shape = f ** 2 / (1.0 + (f / corner) ** 2) * np.exp(-np.pi * kappa * f)
+    shape *= 1.0 / (1.0 + (low_cut / np.maximum(f, 1e-12)) ** 8)     # Butterworth low-cut
+    acc = np.fft.irfft(spectrum * shape, t.size)
+    # start and end at rest: half-cosine tapers over the first 0.5 s and the last 1 s
+    acc *= np.sin(np.pi / 2 * np.clip(np.minimum(t / 0.5, (duration - t) / 1.0), 0, 1)) ** 2
+    return t, _at_rest(acc, duration, 9.81)
+
+
+def _at_rest(acc, duration, peak):
+    """acc less the constant that makes its trapezoidal integral end at
+    zero, then scaled to ``peak``."""
+    v = np.concatenate(([0.0], np.cumsum(0.5 * (acc[1:] + acc[:-1]) * DT)))
+    acc = acc - v[-1] / duration
+    return acc * peak / np.abs(acc).max()
+
+
 def dam_motion():
     """(t, horizontal, vertical) of dam-interface-motion.csv."""
     t = np.arange(0.0, 3.0 + DT / 2, DT)
@@ -73,6 +109,7 @@ def main():
     t = np.arange(0.0, 3.0 + DT / 2, DT)
     write("sliding-block-ground.csv", "time,acc", t,
           np.where(t <= 1.0, 3.0 * np.sin(2 * np.pi * t), 0.0))
+    write("nonlinear-site-motion.csv", "time,acc", *earthquake())
     write("dam-interface-motion.csv", "time,horizontal,vertical", *dam_motion())
     t = np.arange(0.0, 0.45 + 1e-9, 0.0005)
     write("uplift-base.csv", "time,velocity", t,

@@ -241,12 +241,89 @@ def _dam_interface(f, result):
             "![dam-interface slip](figures/dam-interface-slip.png)")
 
 
+def _nonlinear_site(f, result):
+    """Key numbers and the figure of nonlinear-site: the bundled (strong)
+    run against the same column under the weak record (tests/test_examples.py
+    asserts the comparisons)."""
+    sys.path.insert(0, os.path.join(os.path.dirname(HERE), "tests"))
+    from test_examples import NONLINEAR_WEAK, site_numbers
+
+    with tempfile.TemporaryDirectory() as folder:
+        case = result.case().with_value("bc.0.incident.scale", NONLINEAR_WEAK)
+        weak = vstpetsc.run(case, os.path.join(folder, "weak.h5"), quiet=True,
+                            out=io.StringIO())
+        runs = {"strong": site_numbers(result), "weak": site_numbers(weak)}
+    _site_figure(result.case(), runs)
+    scale = result.case().to_dict()["bc"][0]["incident"]["scale"]
+    text = []
+    for (name, n), g in zip(runs.items(), (scale, NONLINEAR_WEAK)):
+        text.append(f"{name} ({g:g} g): peak surface acceleration {n['peak_surface']:.3f} "
+                    f"m/s^2, {n['amplification']:.2f} times the outcrop's; surface "
+                    f"spectrum peaks at {n['period_surface']:.2f} s, spectral ratio at "
+                    f"{n['period_ratio']:.2f} s ({n['ratio'].max():.2f}; "
+                    f"{n['ratio_short']:.2f} over 0.05-0.15 s); transfer function peaks at "
+                    f"{n['freq_transfer']:.2f} Hz ({n['transfer_peak']:.2f}); "
+                    f"largest strain {n['strain_max']:.2e} ({n['yield']:.2f} gamma_ref); "
+                    f"hysteresis dissipated {100 * n['hysteretic'] / n['external']:.1f} % of "
+                    f"the work that came in, numerical {n['numerical'] / n['external']:.1e}")
+    text.append(f"weak run: {weak.run.wall:.1f} s for {weak.run.slabs} slabs")
+    return ("\n- ".join(text) + "\n\n![nonlinear-site spectra, transfer functions and "
+            "strains](figures/nonlinear-site-response.png)")
+
+
+def _site_figure(case, runs):
+    """Four panels: spectra, spectral ratios, transfer functions (with the
+    linear elastic column's, Thomson-Haskell), peak strain profiles."""
+    import matplotlib.pyplot as plt
+    from test_site_profile import haskell
+
+    doc = case.to_dict()
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5), constrained_layout=True)
+    (spec, ratio), (transfer, strain) = axes
+    for (name, n), colour in zip(runs.items(), ("C3", "C0")):
+        label = f"{name}: peak outcrop {n['peak_outcrop'] / 9.81:.2f} g"
+        spec.loglog(n["period"], n["psa_surface"] / n["peak_outcrop"], colour, label=label)
+        ratio.semilogx(n["period"], n["ratio"], colour, label=label)
+        keep = (n["freq"] > 0.2) & (n["freq"] < 20.0)
+        transfer.semilogx(n["freq"][keep], n["transfer"][keep], colour, label=label)
+        strain.semilogx(n["strain"], n["x_mid"], colour, marker=".", label=label)
+    spec.loglog(n["period"], n["psa_outcrop"] / n["peak_outcrop"], "k--", lw=1,
+                label="rock outcrop")
+    spec.set_ylabel("psa / peak outcrop acceleration (5 % damping)")
+    spec.set_title("(a) surface response spectra", fontsize=10)
+    ratio.axhline(1.0, color="k", lw=0.6)
+    ratio.set_ylabel("psa surface / psa outcrop")
+    ratio.set_title("(b) spectral ratio surface / outcrop", fontsize=10)
+    for ax in (spec, ratio):
+        ax.set_xlabel("period [s]")
+        ax.set_xlim(0.02, 5.0)
+    f = np.geomspace(0.2, 20.0, 2000)
+    bc = doc["bc"][0]
+    transfer.semilogx(f, haskell(f, doc["body"][0]["layers"], bc["rock"]), "k:", lw=0.8,
+                      label="linear elastic column (Thomson-Haskell, undamped)")
+    transfer.set_xlabel("frequency [Hz]")
+    transfer.set_ylabel("|A surface| / |A outcrop| (Konno-Ohmachi, b = 40)")
+    transfer.set_ylim(0.0, 8.0)
+    transfer.set_title("(c) transfer function surface / outcrop", fontsize=10)
+    x = n["x"]              # gamma_ref of each element over its span
+    strain.plot(np.repeat(n["gamma_ref"], 2), np.column_stack([x[:-1], x[1:]]).ravel(), "k--",
+                lw=1, label="gamma_ref")
+    strain.set_xlabel("peak |shear strain| (strain_max)")
+    strain.set_ylabel("x [m] (elevation above the rock)")
+    strain.set_title("(d) peak strain over the column", fontsize=10)
+    for ax in axes.flat:
+        ax.legend(fontsize=8)
+    fig.savefig(os.path.join(HERE, "figures", "nonlinear-site-response.png"), dpi=110)
+    plt.close(fig)
+
+
 KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "periodic-impacts": _periodic, "layered": _layered, "wave": _wave,
        "site-response": _site, "uplift": _uplift, "drop": _drop, "pile": _pile,
        "bouncing-bar": _bouncing, "sliding-block": _sliding_block,
-       "dam-interface": _dam_interface}
-NEEDS_RESULT = {"site-response", "uplift", "drop", "pile", "bouncing-bar", "sliding-block",
+       "dam-interface": _dam_interface, "nonlinear-site": _nonlinear_site}
+NEEDS_RESULT = {"nonlinear-site", "site-response", "uplift", "drop", "pile", "bouncing-bar",
+                "sliding-block",
                 "dam-interface"}
 
 

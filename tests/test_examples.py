@@ -3,6 +3,7 @@ bundled file, run to completion, and its physics against the exact solution
 computed from the case's own data (formulation.md section 7)."""
 
 import os
+import re
 
 import numpy as np
 import pytest
@@ -11,6 +12,14 @@ import vstpetsc
 from vstpetsc import analysis
 from conftest import cli, compliance_delay, solve
 from vstpetsc import bundled
+from vstpetsc.materials import mkz
+from vstpetsc.spectrum import acceleration
+
+# nonlinear-site: the weak intensity (the record's scale: its peak in g; the
+# bundled case has the strong one), and the shortened runs of this file
+# (the whole record takes half a minute; its strong part is over by 4 s)
+NONLINEAR_WEAK = 0.02
+SHORTENED = {"nonlinear-site": 4.0}
 
 
 @pytest.fixture(scope="module")
@@ -23,7 +32,10 @@ def results(tmp_path_factory):
         p = cli("example", name, "-o", path)
         assert p.returncode == 0, p.stderr
         assert path.read_text() == bundled.text(name)
-        out[name] = solve(folder, vstpetsc.Case.from_toml(path), name=name)
+        case = vstpetsc.Case.from_toml(path)
+        if name in SHORTENED:
+            case = case.with_value("time.end", SHORTENED[name])
+        out[name] = solve(folder, case, name=name)
         for companion in bundled.companions(name):
             assert (folder / os.path.basename(companion)).read_bytes() == \
                 open(companion, "rb").read()
@@ -384,3 +396,115 @@ def test_dam_interface_lifts_off_and_slides(results):
     e = r.energy
     assert e["friction"][-1] > 0.0
     assert abs(e["numerical"][-1]) < 1e-3 * e["external"].max()
+
+
+def site_numbers(r):
+    """What docs/examples.md reports of a nonlinear-site run: the shear
+    accelerations of the rock outcrop (twice the incident wave) and of the
+    surface gauge, their 5 % response spectra and spectral ratio, the
+    transfer function surface / outcrop (Konno-Ohmachi, b = 40), the peak
+    strain per element against its gamma_ref, the energies."""
+    case = r.case()
+    surface = r.gauge("surface")
+    dt = surface.dt
+    outcrop = acceleration(2 * case.bcs[0].params["incident"](surface.time), dt)
+    acc = surface.shear_acceleration
+    rock, top = (vstpetsc.response_spectrum(a, dt) for a in (outcrop, acc))
+    period, ratio = top["period"], top["psa"] / rock["psa"]
+    freq, transfer = vstpetsc.transfer_function(outcrop, acc, dt, smooth=40)
+    band = (freq >= 0.2) & (freq <= 10.0)
+    x = r.body("soil").x
+    mid = 0.5 * (x[1:] + x[:-1])
+    strain = r.body("soil").shear.strain_max
+    gamma_ref = mkz.parameters(case.bodies[0].shear_law, mid)[1]
+    short = (period >= 0.05) & (period <= 0.15)
+    e = {key: r.energy[key][-1] for key in ("hysteretic", "numerical", "external")}
+    return {"dt": dt, "outcrop": outcrop, "surface": acc, "period": period,
+            "psa_outcrop": rock["psa"], "psa_surface": top["psa"], "ratio": ratio,
+            "peak_outcrop": np.abs(outcrop).max(), "peak_surface": np.abs(acc).max(),
+            "amplification": np.abs(acc).max() / np.abs(outcrop).max(),
+            "period_surface": period[np.argmax(top["psa"])],
+            "period_ratio": period[np.argmax(ratio)], "ratio_short": ratio[short].mean(),
+            "freq": freq, "transfer": transfer,
+            "freq_transfer": freq[band][np.argmax(transfer[band])],
+            "transfer_peak": transfer[band].max(),
+            "x": x, "x_mid": mid, "strain": strain, "gamma_ref": gamma_ref,
+            "strain_max": strain.max(), "yield": (strain / gamma_ref).max(), **e}
+
+
+def weak_nonlinear_site(strong, folder):
+    """The nonlinear-site case of ``strong`` under the weak record, run."""
+    case = strong.case().with_value("bc.0.incident.scale", NONLINEAR_WEAK)
+    return solve(folder, case, name="nonlinear-site-weak")
+
+
+def test_nonlinear_site_yields_under_the_strong_record(results, tmp_path):
+    """The same column under the record at 0.3 g and at 0.02 g: the strong
+    shaking strains the soil far beyond gamma_ref, so the column softens
+    and dissipates by hysteresis: less amplification of the peak
+    acceleration and of short periods, the site's peak at longer periods;
+    the weak one stays below gamma_ref everywhere, nearly linear: its
+    spectral ratio peaks at the first resonance of the linear elastic
+    column (Thomson-Haskell, tests/test_site_profile.py)."""
+    from test_site_profile import haskell
+
+    strong = results["nonlinear-site"]
+    weak = weak_nonlinear_site(strong, tmp_path)
+    assert weak.status == "completed"
+    s, w = site_numbers(strong), site_numbers(weak)
+    for name, n in (("strong", s), ("weak", w)):
+        print(f"nonlinear-site {name}: peak outcrop {n['peak_outcrop']:.4g}, surface "
+              f"{n['peak_surface']:.4g} (x {n['amplification']:.3f}); spectral ratio peaks at "
+              f"{n['period_ratio']:.3f} s, short periods {n['ratio_short']:.3f}; transfer "
+              f"peaks at {n['freq_transfer']:.3f} Hz; strain {n['strain_max']:.3g} "
+              f"({n['yield']:.3f} gamma_ref); hysteretic {n['hysteretic']:.4g} of "
+              f"{n['external']:.4g}, numerical {n['numerical']:.3g}")
+    scale = strong.case().to_dict()["bc"][0]["incident"]["scale"]
+    assert s["peak_outcrop"] / w["peak_outcrop"] == pytest.approx(scale / NONLINEAR_WEAK,
+                                                                 rel=1e-9)
+    assert s["amplification"] < w["amplification"]
+    assert s["ratio_short"] < w["ratio_short"]
+    assert s["period_ratio"] > w["period_ratio"]
+    assert s["yield"] > 1.0 and w["yield"] < 1.0
+    doc = strong.case().to_dict()
+    f = np.linspace(0.5, 5.0, 45001)
+    linear = haskell(f, doc["body"][0]["layers"], doc["bc"][0]["rock"])
+    assert abs(w["period_ratio"] * f[np.argmax(linear)] - 1) < 0.1
+    for n in (s, w):
+        assert 0.0 <= n["numerical"] < 1e-3 * n["external"]
+    assert s["hysteretic"] > 0.0
+    # Masing damping grows with the strain amplitude: the weak run loses a
+    # far smaller part of what came in
+    assert w["hysteretic"] / w["external"] < 0.5 * s["hysteretic"] / s["external"]
+
+
+def test_plot_of_a_site_has_gauge_and_profile_panels(results, tmp_path):
+    from vstpetsc.results.plot import result_figure
+
+    path = results["nonlinear-site"].path
+    p = cli("plot", path, "-o", tmp_path / "site.png")
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "site.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    fig = result_figure(path)
+    titles = [ax.get_title() for ax in fig.axes]
+    energy = [ax for ax in fig.axes if ax.get_title().endswith("energy")][0]
+    assert "hysteretic (summed)" in [line.get_label() for line in energy.get_lines()]
+    for part in ("gauge acceleration", "response spectrum, 5 % damping: gauge surface (shear)",
+                 "peak |strain|", "peak stress", "peak acceleration"):
+        assert any(part in t for t in titles), (part, titles)
+
+
+def test_info_balance_of_a_site_counts_hysteresis(results):
+    """`vstpetsc info`'s balance line closes with the soil's hysteresis:
+    initial + external = the terms it lists + numerical."""
+    r = results["nonlinear-site"]
+    p = cli("info", r.path)
+    assert p.returncode == 0, p.stderr
+    line = [x for x in p.stdout.splitlines() if "energy balance:" in x][0]
+    left, right = line.split(" = ")
+    came = sum(float(v) for v in _numbers(r"initial (\S+) \+ external (\S+)", left))
+    terms = dict((k, float(v)) for k, v in re.findall(r"(\w+) (-?[\d.e+-]+)",
+                                                         right.split(" (")[0]))
+    e = r.energy
+    assert terms["hysteretic"] == pytest.approx(e["hysteretic"][-1], rel=1e-3)
+    assert sum(terms.values()) == pytest.approx(came, rel=1e-3)

@@ -138,7 +138,8 @@ def slip_axis(ax, r, u):
 
 def energy_panel(ax, r, u, profiles=None):
     """The energy balance: kinetic, strain (+ springs), and the sums of
-    external work, dashpot work and numerical dissipation where not zero."""
+    external work, dashpot work, a soil's hysteresis and numerical
+    dissipation where not zero."""
     t, e = r.time, r.energy
     names = set(e.keys())
     kin, strain = e["kinetic"], e["strain"]
@@ -147,9 +148,10 @@ def energy_panel(ax, r, u, profiles=None):
     ax.plot(t, kin, label="kinetic")
     ax.plot(t, strain, label="strain")
     ax.plot(t, kin + strain, "k", lw=1.5, label="total")
-    for key, style in (("external", "--"), ("damping", ":"), ("numerical", "-.")):
+    for key, style in (("external", "--"), ("damping", ":"), ("hysteretic", (0, (5, 1, 1, 1))),
+                       ("numerical", "-.")):
         if key in names and np.abs(e[key]).max() > 0:
-            ax.plot(t, e[key], style, label=f"{key} (summed)")
+            ax.plot(t, e[key], ls=style, label=f"{key} (summed)")
     ax.set_xlabel(f"t [{u['time']}]")
     ax.set_ylabel(f"energy [{u['energy']}]")
     ax.set_title("energy")

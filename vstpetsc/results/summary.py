@@ -181,7 +181,8 @@ def balance_lines(s):
     if "numerical" not in e:
         return []
     held = " + ".join(f"{k} {e[k]:.4g}" for k in ("kinetic", "strain", "spring", "damping",
-                                                    "contact", "soil", "friction") if k in e)
+                                                    "contact", "soil", "friction", "hysteretic")
+                      if k in e)
     budget = max(abs(s["energy_initial"]) + abs(e["external"]), 1e-300)
     return [f"  energy balance: initial {s['energy_initial']:.4g} + external {e['external']:.4g}"
             f" = {held} + numerical {e['numerical']:.4g} ({100 * e['numerical'] / budget:.3g} %"
