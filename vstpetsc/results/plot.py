@@ -87,8 +87,7 @@ def velocity_map(fig, ax, r, u, max_rows):
     """(a) velocity over reference position and time, walls drawn."""
     t = r.time
     rows = np.unique(np.linspace(0, t.size - 1, min(t.size, max_rows)).astype(int))
-    bodies = [(r.body(name).x, r.read(layout.body_path(name, "v"), np.s_[rows, :]), name)
-              for name in r.bodies]
+    bodies = [(r.body(name).x, *_moving_field(r, name, rows)) for name in r.bodies]
     vmax = max(np.abs(v).max() for _, v, _ in bodies) or 1.0
     for x, v, name in bodies:
         mesh = ax.pcolormesh(x, t[rows], v, cmap="RdBu_r", vmin=-vmax, vmax=vmax,
@@ -106,6 +105,16 @@ def velocity_map(fig, ax, r, u, max_rows):
     ax.set_xlabel(f"x [{u['length']}] (reference position)")
     ax.set_ylabel(f"t [{u['time']}]")
     ax.set_title(f"(a) velocity over space and time ({r.status})")
+
+
+def _moving_field(r, name, rows):
+    """(velocity rows, label) of body ``name``: its axial field, or its
+    shear field when only that one moves (a site-response column)."""
+    v = r.read(layout.body_path(name, "v"), np.s_[rows, :])
+    shear = layout.body_path(name, "shear/v")
+    if not np.abs(v).max() and shear in r:
+        return r.read(shear, np.s_[rows, :]), f"{name} (shear)"
+    return v, name
 
 
 def contact_panel(ax, r, u, profiles=None):

@@ -134,6 +134,10 @@ def gauge_summary(result, name):
     g = result.gauge(name)
     a, stress, v, t = g.attrs, g.stress, g.v, g.time
     out = {"name": name, "body": a.get("body", "?"), "x": float(a.get("x", np.nan))}
+    if v.size and not np.abs(v).max() and "shear_v" in g.keys():
+        # only the shear field moves (a site-response column): report it
+        stress, v = g.shear_stress, g.shear_v
+        out["body"] += " (shear)"
     if stress.size:
         i, j, k = int(stress.argmin()), int(stress.argmax()), int(np.abs(v).argmax())
         out.update(stress_min=float(stress[i]), t_stress_min=float(t[i]),
