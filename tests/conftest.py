@@ -86,14 +86,19 @@ def compliance_delay(r, impedance):
     return 2.0 * impedance / k
 
 
-# Modules that start runs on several ranks: under `pytest -n 2` (make test)
+# Tests that start runs on several ranks: under `pytest -n 2` (make test)
 # they share one worker, so that at most one mpirun runs at a time and the
-# two cores are not asked for four ranks at once.
-MPI_MODULES = {"test_parallel", "test_energy_restart", "test_events", "test_mkz", "test_bench",
-               "test_reliability", "test_sweep_faults", "test_sweep"}
+# two cores are not asked for four ranks at once; the rest spread freely.
+MPI_WORDS = ("mpirun", "mpi=", "mpiexec")
 
 
 def pytest_collection_modifyitems(config, items):
+    import inspect
+
     for item in items:
-        if item.module.__name__ in MPI_MODULES:
+        try:
+            source = inspect.getsource(item.function)
+        except (OSError, TypeError):
+            continue
+        if item.module.__name__ == "test_parallel" or any(w in source for w in MPI_WORDS):
             item.add_marker(pytest.mark.xdist_group("mpi"))
