@@ -9,15 +9,14 @@ equations are
 A the linear slab matrix (its factors are computed once per run).  Each
 slab starts from A^{-1} (b - W r_last), r_last the last slab's soil forces.
 
-- :class:`PlainSoilNewton` (the default on one rank): Newton in a plain
-  loop, each step one application of the LU factors of J
+- :class:`PlainSoilNewton` (the default): Newton in a plain loop, each step one application of the LU factors of J
   (:class:`~vstpetsc.petsc.soil_coupling.TangentFactors`), factored anew
   only when a step reduces |F| by less than 1/SLOW (the soil's tangent
   changes little from slab to slab except near reversals);
 - :class:`SnesSoilNewton` (any ``-snes_*`` or ``-newton_*`` option,
-  ``-vst_fd_jacobian``, several ranks): a SNES (prefix ``vst_``) whose
-  Krylov solve (prefix ``vst_newton_``, GMRES) on J, a shell, is
-  preconditioned by the same factors (A's own on several ranks);
+  ``-vst_fd_jacobian``): a SNES (prefix ``vst_``) whose Krylov solve
+  (prefix ``vst_newton_``, GMRES) on J, a shell, is preconditioned by the
+  same factors;
   ``-newton_ksp_type preonly`` is modified Newton; ``-vst_fd_jacobian``
   takes J's soil part from central differences of r.
 
@@ -126,7 +125,7 @@ class SoilNewton:
     def restore(self, state):
         n = self.rows.size
         self.rows[:] = state[:n]
-        if state[n] and self.factors.refreshable:
+        if state[n]:
             self.factors.refresh(state[n + 1:].reshape(-1, 2, 2))
 
     def advance(self, b):
@@ -301,7 +300,6 @@ def of(model, solver, options, fixed_nodes):
             from vstpetsc.native.masing import NativeMasing
 
             soil.native = NativeMasing(lib, soil)
-    serial = solver.space.comm.getSize() == 1
-    if serial and not options.fd_jacobian and not wants_snes():
+    if not options.fd_jacobian and not wants_snes():
         return PlainSoilNewton(soil, solver, model.ops, fixed_nodes)
     return SnesSoilNewton(soil, solver, model.ops, fixed_nodes, options.fd_jacobian)

@@ -82,57 +82,60 @@ class SoilCoupling:
 
 
 class TangentFactors:
-    """LU factors of A + the soil's tangent (one rank), kept and reused
-    until :meth:`refresh` is asked; until the first refresh, and on
-    several ranks, A's own factors (``linear``)."""
+    """LU factors of A + the soil's tangent, kept and reused until
+    :meth:`refresh` is asked; until the first refresh, A's own factors
+    (``linear``).  On several ranks every rank factors the whole matrix
+    (PETSc's redundant PC): the same factors as on one rank."""
 
     def __init__(self, coupling, solver, ops, fixed_nodes):
+        from vstpetsc.petsc.matrices import block_matrix
+
         self.linear = solver.linear
         self.fresh = False
         self.blocks = np.zeros((coupling.soil.left.size, 2, 2))     # of the last refresh
-        self.P = None
-        if solver.space.comm.getSize() > 1:
-            return
-        from vstpetsc.petsc.matrices import block_matrix
-
+        comm = solver.space.comm
         fixed = (2 * np.asarray(fixed_nodes, dtype=int)[:, None] + np.arange(2)).ravel()
         blocks = slab.impose_dirichlet(slab.slab_matrix(ops, solver.dt, solver.W, solver.V),
                                        fixed, 1.0)
         n0, n1 = solver.space.nodes
-        self.P = block_matrix(blocks, (n0, n1), solver.space.comm)
-        self.lu = PETSc.PC().create(comm=solver.space.comm)
-        self.lu.setType("lu")
+        self.P = block_matrix(blocks, (n0, n1), comm)
+        self.lu = PETSc.PC().create(comm=comm)
+        self.lu.setType("lu" if comm.getSize() == 1 else "redundant")
         self.lu.setOperators(self.P, self.P)
         indptr, indices, data = slab.block_rows_bcsr(blocks, n0, n1)
         self.csr = (indptr.astype(PETSc.IntType), indices.astype(PETSc.IntType))
         self.data = np.ascontiguousarray(data)
         self.base = self.data.copy()
-        gl = coupling.soil.left
-        slot = lambda row, col: indptr[row] + np.searchsorted(
-            indices[indptr[row]:indptr[row + 1]], col)
-        # where each soil element's four blocks sit in the block CSR data
-        self.at = {key: np.array([slot(r, c) for r, c in pairs], dtype=int)
-                   for key, pairs in (("ll", zip(gl, gl)), ("lr", zip(gl, gl + 1)),
-                                      ("rr", zip(gl + 1, gl + 1)), ("rl", zip(gl + 1, gl)))}
-        self.lf = coupling.free[coupling.left, 0][:, None, None]
-        self.rf = coupling.free[coupling.right, 0][:, None, None]
+        self.at = self._slots(coupling, indptr, indices, n0, n1)
 
-    @property
-    def refreshable(self):
-        return self.P is not None
+    @staticmethod
+    def _slots(coupling, indptr, indices, n0, n1):
+        """{key: (elements, their block's place in this rank's block CSR
+        data, the row's free factor)} for the four blocks of each soil
+        element (ll: its left node's row and column, lr, rr, rl) in the
+        rows this rank holds."""
+        gl = coupling.soil.left
+        free = coupling.free[:, 0]
+        out = {}
+        for key, rows, cols, node in (("ll", gl, gl, coupling.left),
+                                      ("lr", gl, gl + 1, coupling.left),
+                                      ("rr", gl + 1, gl + 1, coupling.right),
+                                      ("rl", gl + 1, gl, coupling.right)):
+            mine = np.flatnonzero((rows >= n0) & (rows < n1))
+            slot = np.array([indptr[r - n0] + np.searchsorted(
+                indices[indptr[r - n0]:indptr[r - n0 + 1]], c)
+                for r, c in zip(rows[mine], cols[mine])], dtype=int)
+            out[key] = (mine, slot, free[node[mine]][:, None, None])
+        return out
 
     def refresh(self, blocks):
         """Factor A + the tangent of the element ``blocks``."""
-        if self.P is None:
-            return
         self.blocks[...] = blocks
-        data, at = self.data, self.at
+        data = self.data
         data[...] = self.base
-        left, right = self.lf * blocks, self.rf * blocks
-        data[at["ll"]] += left
-        data[at["lr"]] -= left
-        data[at["rr"]] += right
-        data[at["rl"]] -= right
+        for key, sign in (("ll", 1.0), ("lr", -1.0), ("rr", 1.0), ("rl", -1.0)):
+            mine, slot, free = self.at[key]
+            data[slot] += sign * free * blocks[mine]
         self.P.setValuesBlockedCSR(*self.csr, data.ravel())
         self.P.assemble()
         self.lu.setUp()
