@@ -36,6 +36,14 @@ typedef struct {
     const double *values;                     /* (n, 2): the unknowns z at the nodes */
     double *rows;                             /* (n, 2): W r, free nodes only */
     double *blocks;                           /* (ne, 2, 2): W (dt/h) dQ V, or NULL */
+    /* the tangent's matrix data (block CSR, this rank's rows): base plus
+     * the blocks at each element's four slots (-1: another rank's row),
+     * in the order ll, lr, rr, rl, times sign x free (pdata NULL: none) */
+    const double *pbase;
+    double *pdata;
+    long nb;                                  /* blocks in pdata */
+    const long *slots;                        /* (4, ne) */
+    const double *pcoef;                      /* (4, ne) */
 } MasingSlab;
 
 static inline double sgn(double x) { return (x > 0.0) - (x < 0.0); }
@@ -226,8 +234,14 @@ static void element(const MasingSlab *m, long e, double *lg, double *lt)
         m->k1[e] = ke;
         memcpy(m->sg1 + e * m->depth, lg, (size_t)ke * sizeof(double));
         memcpy(m->st1 + e * m->depth, lt, (size_t)ke * sizeof(double));
+        /* the buffers are reused: nothing stale beyond the depth */
+        memset(m->sg1 + e * m->depth + ke, 0, (size_t)(m->depth - ke) * sizeof(double));
+        memset(m->st1 + e * m->depth + ke, 0, (size_t)(m->depth - ke) * sizeof(double));
     }
 }
+
+static void tangent_blocks(MasingSlab *m);
+static void tangent_data(MasingSlab *m);
 
 /* W r and the tangent's element blocks from the unknowns z of the soil's
  * nodes: v = V z per node, D_b = (dt/h)(v_right - v_left), the slab
@@ -262,6 +276,14 @@ void vst_masing_residual(MasingSlab *m)
     }
     if (!m->blocks || !m->dQ)
         return;
+    tangent_blocks(m);
+    if (m->pdata)
+        tangent_data(m);
+}
+
+static void tangent_blocks(MasingSlab *m)
+{
+    const double *V = m->V, *W = m->W;
     for (long e = 0; e < m->ne; e++) {
         const double *T = m->dQ + 4 * e;
         double S[4], WS[4];
@@ -273,6 +295,21 @@ void vst_masing_residual(MasingSlab *m)
         for (int a = 0; a < 2; a++)
             for (int b = 0; b < 2; b++)
                 m->blocks[4 * e + 2 * a + b] = WS[2 * a] * V[b] + WS[2 * a + 1] * V[2 + b];
+    }
+}
+
+static void tangent_data(MasingSlab *m)
+{
+    memcpy(m->pdata, m->pbase, (size_t)(4 * m->nb) * sizeof(double));
+    for (int key = 0; key < 4; key++) {
+        for (long e = 0; e < m->ne; e++) {
+            long slot = m->slots[key * m->ne + e];
+            if (slot < 0)
+                continue;
+            double c = m->pcoef[key * m->ne + e];
+            for (int i = 0; i < 4; i++)
+                m->pdata[4 * slot + i] += c * m->blocks[4 * e + i];
+        }
     }
 }
 

@@ -20,11 +20,14 @@ class _Slab(ctypes.Structure):
                                  "tau", "dir", "sg", "st", "k", "D", "Q", "dQ", "gamma1",
                                  "tau1", "dir1", "sg1", "st1", "k1")] + \
         [("n", ctypes.c_long)] + \
-        [(name, _P) for name in ("left", "scale", "free", "V", "W", "values", "rows", "blocks")]
+        [(name, _P) for name in ("left", "scale", "free", "V", "W", "values", "rows", "blocks",
+                                 "pbase", "pdata")] + \
+        [("nb", ctypes.c_long)] + [(name, _P) for name in ("slots", "pcoef")]
 
 
 def _ptr(a):
-    return a.ctypes.data_as(_P)
+    """The address of ``a``'s data (a c_void_p field takes the int)."""
+    return a.ctypes.data
 
 
 class NativeMasing:
@@ -52,6 +55,12 @@ class NativeMasing:
         self.s.D, self.s.Q = _ptr(self.D), _ptr(self.Q)
         self.dQ_ptr = _ptr(self.dQ)
         self._state = None
+        # two sets of end-state arrays, used in turn (the state holds one)
+        self.buffers = [(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros((n, masing.DEPTH)),
+                         np.zeros((n, masing.DEPTH)), np.zeros(n, dtype=np.int64))
+                        for _ in range(2)]
+        self.turn = 0
+        self.data = None
 
     def bind_residual(self, left, scale, free, V, W, n):
         """The solver's side of :meth:`residual`: each element's left node
@@ -69,6 +78,7 @@ class NativeMasing:
         self.values = np.zeros(2 * n)
         self.s.rows, self.s.blocks, self.s.values = (_ptr(a) for a in (self.rows, self.blocks,
                                                                        self.values))
+        self.s.pdata = None
 
     def residual(self, values, dt, tangent):
         """(rows W r, element blocks or None, D, Q) at the gathered unknowns
@@ -82,6 +92,11 @@ class NativeMasing:
         # rows and blocks are used before the next call (the factors copy
         # the blocks they keep); D and Q outlive it
         return self.rows, (self.blocks if tangent else None), self.D.copy(), self.Q.copy()
+
+    def tangent_data(self):
+        """The tangent's block CSR data of the last residual with the
+        tangent (None unless bind_tangent_data was called)."""
+        return self.data
 
     def _bind_state(self):
         """Point the struct at the state's arrays (again only when the
@@ -105,16 +120,28 @@ class NativeMasing:
         self.lib.vst_masing_slab(ctypes.byref(self.s))
         return self.Q.copy(), (self.dQ.copy() if tangent else None)
 
+    def bind_tangent_data(self, base, slots, coef):
+        """Let every residual with the tangent also write the tangent's
+        block CSR data (``data``): ``base`` plus each element's blocks at
+        ``slots`` (4, ne; -1 elsewhere) times ``coef`` (4, ne)."""
+        self.pkeep = [np.ascontiguousarray(base, dtype=float),
+                      np.ascontiguousarray(slots, dtype=np.int64),
+                      np.ascontiguousarray(coef, dtype=float)]
+        self.data = np.zeros_like(self.pkeep[0])
+        self.s.pbase, self.s.slots, self.s.pcoef = (_ptr(a) for a in self.pkeep)
+        self.s.nb = self.pkeep[0].size // 4
+        self.s.pdata = _ptr(self.data)
+
     def finish(self, D1, D2, dt):
         """The state at the slab end for the solution D1, D2: (Q, gamma,
-        tau, stack g, stack t, depth, direction), new arrays."""
-        n = self.D.shape[0]
+        tau, direction, stack g, stack t, depth), into the pair of buffers
+        the state does not hold."""
         self.D[:, 0], self.D[:, 1] = D1, D2
         self._bind_state()
         self.s.dt = dt
         self.s.dQ = None
-        out = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros((n, masing.DEPTH)),
-               np.zeros((n, masing.DEPTH)), np.zeros(n, dtype=np.int64))
+        self.turn = 1 - self.turn
+        out = self.buffers[self.turn]
         for name, arr in zip(("gamma1", "tau1", "dir1", "sg1", "st1", "k1"), out):
             setattr(self.s, name, _ptr(arr))
         self.lib.vst_masing_slab(ctypes.byref(self.s))

@@ -36,10 +36,23 @@ from vstpetsc.petsc.options import PREFIX
 from vstpetsc.petsc.soil_coupling import SoilCoupling, TangentFactors
 
 # the tangent is factored anew after a Newton step that reduced |F| by less
-# than 1 / SLOW, or (SNES) took more Krylov iterations than REFRESH
+# than 1 / SLOW or would need more than LAGGED such steps to converge, or
+# (SNES) took more Krylov iterations than REFRESH
 SLOW = 0.1
 REFRESH = 2
+LAGGED = 1
 RTOL, MAX_IT = 1e-12, 50
+
+
+def slow(fnorm, last, target):
+    """Whether factoring the tangent anew pays: the steps on the kept
+    factors reduce |F| linearly, by fnorm / last each; fresh factors
+    converge quadratically, in about two steps, for the price of about
+    one step.  Refactor when more than LAGGED steps would remain."""
+    rate = fnorm / last
+    if rate >= SLOW:
+        return True
+    return math.log(target / fnorm) / math.log(rate) > LAGGED
 
 
 class SoilNewton:
@@ -98,9 +111,13 @@ class SoilNewton:
                 soil.ke_h * (np.abs(soil.state.gamma) + np.abs(D[:, 0]) + np.abs(D[:, 1]))))
         return rows, blocks
 
-    def converged(self, fnorm, rows, rtol=RTOL, atol=0.0):
+    def tolerance(self, rows, rtol=RTOL, atol=0.0):
+        """The |F| a converged slab reaches."""
         scale = self.b_norm + self.ax_norm + self.element_norm + self.rows_norm(rows)
-        return fnorm <= max(atol, rtol * scale)
+        return max(atol, rtol * scale)
+
+    def converged(self, fnorm, rows, rtol=RTOL, atol=0.0):
+        return fnorm <= self.tolerance(rows, rtol, atol)
 
     def rows_norm(self, rows):
         return float(np.sqrt(rows.dot(rows)))
@@ -155,13 +172,14 @@ class PlainSoilNewton(SoilNewton):
             fnorm = F.norm()
             if not math.isfinite(fnorm):
                 raise SolveFailed(f"slab {slab_index}: the soil's Newton diverged (|F| = {fnorm})")
-            if self.converged(fnorm, rows, self.rtol, self.atol):
+            target = self.tolerance(rows, self.rtol, self.atol)
+            if fnorm <= target:
                 break
             if it == self.max_it:
                 raise SolveFailed(f"slab {slab_index}: the soil's Newton did not converge in "
                                   f"{self.max_it} iterations (|F| = {fnorm:.3g})")
-            if not self.factors.fresh or (it > 0 and fnorm > SLOW * last):
-                self.factors.refresh(blocks)
+            if not self.factors.fresh or (it > 0 and slow(fnorm, last, target)):
+                self.factors.refresh(blocks, self.c.tangent_data())
             last = fnorm
             self.factors.solve(F, self.step)
             X.axpy(-1.0, self.step)
@@ -240,7 +258,7 @@ class SnesSoilNewton(SoilNewton):
             self.X_at = X.copy()
             self.h = 1e-7 * max(1.0, X.norm(PETSc.NormType.INFINITY))
         elif snes.getKSP().getIterationNumber() > REFRESH or self.rate > SLOW:
-            self.factors.refresh(self.blocks)
+            self.factors.refresh(self.blocks, self.c.tangent_data())
 
     def solve(self, X, b, slab_index):
         self.start(X, b)

@@ -44,6 +44,12 @@ class SoilCoupling:
         blocks = self.W @ (self.scale[:, :, None] * dQ) @ self.V if tangent else None
         return self.rows(Q), blocks, D, Q
 
+    def tangent_data(self):
+        """The tangent's matrix data that the compiled kernel wrote with the
+        last residual (None: the factors compute it)."""
+        native = self.soil.native
+        return None if native is None else native.tangent_data()
+
     def increments(self, values):
         """D (ne, 2) from the gathered unknowns (z basis, per node)."""
         v = values.reshape(-1, 2) @ self.V.T
@@ -81,6 +87,11 @@ class SoilCoupling:
         return float(np.sum(self.node_forces(element_forces) * self.held * v))
 
 
+# an element's four blocks in the tangent: (key, sign), in the order the
+# compiled kernel adds them too
+SIGNS = (("ll", 1.0), ("lr", -1.0), ("rr", 1.0), ("rl", -1.0))
+
+
 class TangentFactors:
     """LU factors of A + the soil's tangent, kept and reused until
     :meth:`refresh` is asked; until the first refresh, A's own factors
@@ -107,6 +118,14 @@ class TangentFactors:
         self.data = np.ascontiguousarray(data)
         self.base = self.data.copy()
         self.at = self._slots(coupling, indptr, indices, n0, n1)
+        native = coupling.soil.native
+        if native is not None:
+            ne = coupling.soil.left.size
+            slots, coef = -np.ones((4, ne), dtype=np.int64), np.zeros((4, ne))
+            for j, (key, sign) in enumerate(SIGNS):
+                mine, slot, free = self.at[key]
+                slots[j, mine], coef[j, mine] = slot, sign * free[:, 0, 0]
+            native.bind_tangent_data(self.base, slots, coef)
 
     @staticmethod
     def _slots(coupling, indptr, indices, n0, n1):
@@ -128,14 +147,16 @@ class TangentFactors:
             out[key] = (mine, slot, free[node[mine]][:, None, None])
         return out
 
-    def refresh(self, blocks):
-        """Factor A + the tangent of the element ``blocks``."""
+    def refresh(self, blocks, data=None):
+        """Factor A + the tangent of the element ``blocks`` (``data``: its
+        block CSR data when the compiled kernel wrote it already)."""
         self.blocks[...] = blocks
-        data = self.data
-        data[...] = self.base
-        for key, sign in (("ll", 1.0), ("lr", -1.0), ("rr", 1.0), ("rl", -1.0)):
-            mine, slot, free = self.at[key]
-            data[slot] += sign * free * blocks[mine]
+        if data is None:
+            data = self.data
+            data[...] = self.base
+            for key, sign in SIGNS:
+                mine, slot, free = self.at[key]
+                data[slot] += sign * free * blocks[mine]
         self.P.setValuesBlockedCSR(*self.csr, data.ravel())
         self.P.assemble()
         self.lu.setUp()
