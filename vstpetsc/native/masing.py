@@ -89,9 +89,10 @@ class NativeMasing:
         self.s.dQ = self.dQ_ptr if tangent else None
         self.s.gamma1 = None
         self.lib.vst_masing_residual(ctypes.byref(self.s))
-        # rows and blocks are used before the next call (the factors copy
-        # the blocks they keep); D and Q outlive it
-        return self.rows, (self.blocks if tangent else None), self.D.copy(), self.Q.copy()
+        # the kernel's own buffers, valid until the next call: the rows and
+        # blocks are used before it (the factors copy the blocks they
+        # keep), and closing a slab reads the last call's D and Q
+        return self.rows, (self.blocks if tangent else None), self.D, self.Q
 
     def tangent_data(self):
         """The tangent's block CSR data of the last residual with the

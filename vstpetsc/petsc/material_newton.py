@@ -106,7 +106,7 @@ class SoilNewton:
             self.c.gather.add_rows(F, rows)
         else:
             arrays[1][local] += rows
-        self.evaluated = (values, D, Q)
+        self.evaluated = (values, D, Q, rows)
         if first:
             soil = self.soil
             self.element_norm = self.dt * float(np.linalg.norm(
@@ -128,10 +128,10 @@ class SoilNewton:
         """X is the slab's solution: the soil's state moves to the slab end."""
         values = self.c.gather(X)
         if self.evaluated is not None and np.array_equal(values, self.evaluated[0]):
-            _, D, Q = self.evaluated
+            _, D, Q, rows = self.evaluated
         else:
-            _, _, D, Q = self.c.residual(values, tangent=False)
-        self.rows = self.c.rows(Q)
+            rows, _, D, Q = self.c.residual(values, tangent=False)
+        self.rows = rows.copy()
         self.soil.support_work += self.c.support_work(Q, values)
         self.soil.finish(D[:, 0], D[:, 1], Q, self.dt)
 

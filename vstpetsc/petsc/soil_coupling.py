@@ -28,6 +28,7 @@ class SoilCoupling:
         self.n = nodes.size
         self.free = (~np.isin(nodes, fixed_nodes)).astype(float)[:, None]
         self.held = 1.0 - self.free
+        self.any_held = bool(self.held.any())
         self.V, self.W = solver.V, solver.W
         self.scale = (self.dt / soil.h)[:, None]            # D_b = dt (v_r^b - v_l^b) / h
         if soil.native is not None:
@@ -81,7 +82,7 @@ class SoilCoupling:
         """The work of the supports that hold prescribed nodes against these
         forces over the slab: sum_a f^a v^a at those nodes (the reactions of
         the linear rows do not see them)."""
-        if not self.held.any():
+        if not self.any_held:
             return 0.0
         v = values.reshape(-1, 2) @ self.V.T
         return float(np.sum(self.node_forces(element_forces) * self.held * v))
@@ -110,9 +111,7 @@ class TangentFactors:
                                        fixed, 1.0)
         n0, n1 = solver.space.nodes
         self.P = block_matrix(blocks, (n0, n1), comm)
-        self.lu = PETSc.PC().create(comm=comm)
-        self.lu.setType("lu" if comm.getSize() == 1 else "redundant")
-        self.lu.setOperators(self.P, self.P)
+        self.lu = self._factors(comm)
         indptr, indices, data = slab.block_rows_bcsr(blocks, n0, n1)
         self.csr = (indptr.astype(PETSc.IntType), indices.astype(PETSc.IntType))
         self.data = np.ascontiguousarray(data)
@@ -126,6 +125,28 @@ class TangentFactors:
                 mine, slot, free = self.at[key]
                 slots[j, mine], coef[j, mine] = slot, sign * free[:, 0, 0]
             native.bind_tangent_data(self.base, slots, coef)
+
+    def _factors(self, comm):
+        """The LU PC (prefix ``vst_soil_``): PETSc's own LU in the natural
+        order, as A's (a block tridiagonal matrix fills nothing in it);
+        on several ranks the same LU of the whole matrix on every rank."""
+        from vstpetsc.petsc.options import PREFIX, default
+
+        pc = PETSc.PC().create(comm=comm)
+        pc.setOptionsPrefix(PREFIX + "soil_")
+        pc.setOperators(self.P, self.P)
+        if comm.getSize() == 1:
+            pc.setType("lu")
+            pc.setFactorSolverType("petsc")
+            pc.setFactorOrdering("natural")
+        else:
+            pc.setType("redundant")
+            for key, val in (("redundant_pc_type", "lu"),
+                             ("redundant_pc_factor_mat_solver_type", "petsc"),
+                             ("redundant_pc_factor_mat_ordering_type", "natural")):
+                default(PREFIX + "soil_" + key, val)
+        pc.setFromOptions()
+        return pc
 
     @staticmethod
     def _slots(coupling, indptr, indices, n0, n1):
