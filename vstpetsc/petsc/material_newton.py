@@ -169,8 +169,9 @@ class PlainSoilNewton(SoilNewton):
         last = 0.0
         F = self.F_plain
         arrays = None if self.c.local is None else (self.X_array, self.F_array)
+        tangent = True
         for it in range(self.max_it + 1):
-            rows, blocks = self.function(X, F, True, arrays)
+            rows, blocks = self.function(X, F, tangent, arrays)
             fnorm = F.norm()
             if not math.isfinite(fnorm):
                 raise SolveFailed(f"slab {slab_index}: the soil's Newton diverged (|F| = {fnorm})")
@@ -180,8 +181,12 @@ class PlainSoilNewton(SoilNewton):
             if it == self.max_it:
                 raise SolveFailed(f"slab {slab_index}: the soil's Newton did not converge in "
                                   f"{self.max_it} iterations (|F| = {fnorm:.3g})")
-            if not self.factors.fresh or (it > 0 and slow(fnorm, last, target)):
+            if blocks is not None and (not self.factors.fresh
+                                       or (it > 0 and slow(fnorm, last, target))):
                 self.factors.refresh(blocks, self.c.tangent_data())
+            # a step that converges quadratically from here ends the slab:
+            # its residual needs no tangent
+            tangent = not (it > 0 and fnorm * (fnorm / last) < 0.01 * target)
             last = fnorm
             self.factors.solve(F, self.step)
             X.axpy(-1.0, self.step)
