@@ -25,7 +25,7 @@ export MPLBACKEND := agg
 
 install: $(STAMP) $(NATIVE)
 
-$(NATIVE): $(wildcard vstpetsc/native/*.c) $(STAMP)
+$(NATIVE): $(wildcard vstpetsc/native/*.c vstpetsc/native/*.h) $(STAMP)
 	gcc -O3 -fopenmp-simd -fPIC -shared -ffp-contract=off -Wall -Wextra -o $@ $(filter %.c,$^) -lm
 
 $(STAMP): pyproject.toml

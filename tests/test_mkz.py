@@ -265,6 +265,16 @@ def test_other_newton_gives_the_same_run(tmp_path, short, options):
     assert_close(short, other, 1e-8)
 
 
+def test_python_path_equals_the_compiled_one(tmp_path, short):
+    """-vst_native 0: the numpy kernel and Newton with PETSc's LU, the
+    compiled run's checked reference (the same steps; equal to rounding)."""
+    assert "compiled" in short.attrs["solver"]
+    other = solve(tmp_path, column_case(**SHORT), options=["-vst_native", "0"])
+    assert "compiled" not in other.attrs["solver"]
+    assert_close(short, other, 1e-12)
+    assert np.array_equal(short.solver["newton_iterations"], other.solver["newton_iterations"])
+
+
 def test_restart_continues_bit_for_bit(tmp_path, short):
     case = column_case(**SHORT)
     out = str(tmp_path / "part.h5")

@@ -88,11 +88,20 @@ class NativeMasing:
         self.s.dt = dt
         self.s.dQ = self.dQ_ptr if tangent else None
         self.s.gamma1 = None
+        self.s.pdata = None if self.data is None else _ptr(self.data)
         self.lib.vst_masing_residual(ctypes.byref(self.s))
         # the kernel's own buffers, valid until the next call: the rows and
         # blocks are used before it (the factors copy the blocks they
         # keep), and closing a slab reads the last call's D and Q
         return self.rows, (self.blocks if tangent else None), self.D, self.Q
+
+    def prepare(self, dt):
+        """Ready the struct for the compiled Newton's kernel calls."""
+        self._bind_state()
+        self.s.dt = dt
+        self.s.dQ = self.dQ_ptr
+        self.s.gamma1 = None
+        self.s.pdata = None
 
     def tangent_data(self):
         """The tangent's block CSR data of the last residual with the

@@ -131,7 +131,7 @@ class SoilNewton:
             _, D, Q, rows = self.evaluated
         else:
             rows, _, D, Q = self.c.residual(values, tangent=False)
-        self.rows = rows.copy()
+        self.rows[...] = rows
         self.soil.support_work += self.c.support_work(Q, values)
         self.soil.finish(D[:, 0], D[:, 1], Q, self.dt)
 
@@ -163,8 +163,37 @@ class PlainSoilNewton(SoilNewton):
         self.rtol = opts.getReal(PREFIX + "snes_rtol", RTOL)
         self.atol = opts.getReal(PREFIX + "snes_atol", 0.0)
         self.max_it = opts.getInt(PREFIX + "snes_max_it", MAX_IT)
+        self.compiled = self._compiled(solver, ops, fixed_nodes)
+
+    def _compiled(self, solver, ops, fixed_nodes):
+        """The compiled loop (one rank, the compiled kernel), or None; it
+        then holds the factors."""
+        native = self.soil.native
+        if native is None or solver.space.comm.getSize() > 1 or \
+                not hasattr(native.lib, "vst_soil_newton"):
+            return None
+        from vstpetsc.native.soil_newton import CompiledSoilNewton
+
+        compiled = CompiledSoilNewton(native.lib, self, native, solver, ops, fixed_nodes,
+                                      (self.rtol, self.atol, SLOW, LAGGED, self.max_it))
+        self.factors = compiled
+        self.b_array = solver.br
+        return compiled
+
+    def _solve_compiled(self, X, slab_index):
+        its, converged, fnorm = self.compiled.solve(self.b_array, self.X_array, self.dt)
+        if not converged:
+            raise SolveFailed(f"slab {slab_index}: the soil's Newton did not converge in "
+                              f"{its} iterations (|F| = {fnorm:.3g})")
+        native = self.soil.native
+        self.evaluated = (native.values, native.D, native.Q, native.rows)
+        self.iterations = its
+        self.close(X)
+        return its
 
     def solve(self, X, b, slab_index):
+        if self.compiled is not None:
+            return self._solve_compiled(X, slab_index)
         self.start(X, b)
         last = 0.0
         F = self.F_plain
@@ -195,7 +224,8 @@ class PlainSoilNewton(SoilNewton):
         return it
 
     def describe(self):
-        return "; soil: Newton on all unknowns, LU of the tangent (refreshed when slow)"
+        where = ", compiled" if self.compiled is not None else ""
+        return f"; soil: Newton on all unknowns{where}, LU of the tangent (refreshed when slow)"
 
 
 class SnesSoilNewton(SoilNewton):
