@@ -20,8 +20,8 @@ import numpy as np
 import vstpetsc
 
 H, RHO, VS, DT = 30.0, 2000.0, 250.0, 0.005
-VARIANTS = {"linear": [], "mkz (plain Newton, compiled kernel)": [],
-            "mkz, Python kernel (-vst_native 0)": ["-vst_native", "0"],
+VARIANTS = {"linear": [], "mkz (default: the compiled Newton)": [],
+            "mkz, Python path (-vst_native 0)": ["-vst_native", "0"],
             "mkz, SNES (GMRES on the factors)": ["-snes_type", "newtonls"],
             "mkz, SNES modified Newton": ["-newton_ksp_type", "preonly"]}
 

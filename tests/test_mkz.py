@@ -356,3 +356,32 @@ def test_part_covering_no_element_is_bad_input(tmp_path):
                   "value": 0.1}]
     with pytest.raises(vstpetsc.CaseError, match=re.escape("body[0] (s).shear_law[0]")):
         solve(tmp_path, vstpetsc.Case.from_dict(doc))
+
+
+# ---- the kernel's tangent ----------------------------------------------------
+
+@pytest.mark.parametrize("D", [(2e-4, -3e-4), (-1e-4, 5e-5), (3e-4, 1e-4), (-6e-4, -2e-4)],
+                         ids=["turns", "turns_at_start_and_inside", "loads", "unloads"])
+def test_slab_tangent_is_the_derivative_of_the_gauss_sums(D):
+    """dQ/dD of masing.slab_integrals against central differences of Q,
+    from a state on a branch (a reversal behind it), for slabs that load
+    on, turn inside, turn at the start (the velocity jump) and inside."""
+    from vstpetsc.materials import masing
+
+    one = np.ones(1)
+    backbone = masing.Backbone(1e7 * one, 1e-3 * one, one, 0.9 * one)
+    state = masing.MasingState(backbone, np.array([2e-3]))
+    # unload from 2e-3 to 1e-3: a reversal point on the stack
+    _, _, path = masing.slab_integrals(state, np.array([-1e-3]), np.array([-1e-3]), one,
+                                       1e7 * one, 0.01, tangent=False)
+    state.gamma, state.tau, state.stack, state.direction = path.end()
+    D1, D2 = np.array([D[0]]), np.array([D[1]])
+    _, dQ, _ = masing.slab_integrals(state, D1, D2, one, 1e7 * one, 0.01)
+    h = 1e-9
+    for b, step in enumerate((np.array([h, 0.0]), np.array([0.0, h]))):
+        Qp, _, _ = masing.slab_integrals(state, D1 + step[0], D2 + step[1], one, 1e7 * one,
+                                         0.01, tangent=False)
+        Qm, _, _ = masing.slab_integrals(state, D1 - step[0], D2 - step[1], one, 1e7 * one,
+                                         0.01, tangent=False)
+        fd = (Qp - Qm)[0] / (2 * h)
+        assert np.abs(fd - dQ[0, :, b]).max() <= 1e-6 * np.abs(dQ).max(), (b, fd, dQ[0, :, b])
