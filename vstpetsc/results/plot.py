@@ -147,8 +147,8 @@ def slip_axis(ax, r, u):
 
 def energy_panel(ax, r, u, profiles=None):
     """The energy balance: kinetic, strain (+ springs), and the sums of
-    external work, dashpot work, a soil's hysteresis and numerical
-    dissipation where not zero."""
+    external work, dashpot work, sliding, a soil's hysteresis and
+    numerical dissipation where not zero."""
     t, e = r.time, r.energy
     names = set(e.keys())
     kin, strain = e["kinetic"], e["strain"]
@@ -157,15 +157,11 @@ def energy_panel(ax, r, u, profiles=None):
     ax.plot(t, kin, label="kinetic")
     ax.plot(t, strain, label="strain")
     ax.plot(t, kin + strain, "k", lw=1.5, label="total")
-    for key, style in (("external", "--"), ("damping", ":"), ("hysteretic", (0, (5, 1, 1, 1))),
-                       ("numerical", "-.")):
+    for key, style in (("external", "--"), ("damping", ":"), ("friction", (0, (3, 1))),
+                       ("hysteretic", (0, (5, 1, 1, 1))), ("numerical", "-.")):
         if key in names and np.abs(e[key]).max() > 0:
             ax.plot(t, e[key], ls=style, label=f"{key} (summed)")
-    ax.set_xlabel(f"t [{u['time']}]")
-    ax.set_ylabel(f"energy [{u['energy']}]")
-    ax.set_title("energy")
-    ax.legend(fontsize=8)
-    return ax
+    return _labelled(ax, f"t [{u['time']}]", f"energy [{u['energy']}]", "energy")
 
 
 def gauge_panel(ax, r, u, profiles=None):
@@ -177,11 +173,8 @@ def gauge_panel(ax, r, u, profiles=None):
         component = "shear" if seismic.has_shear(g) else "axial"
         ax.plot(g.time, seismic.gauge_acceleration(g, component), lw=0.7,
                 label=f"{name} (x = {float(g.attrs['x']):g}, {component})")
-    ax.set_xlabel(f"t [{u['time']}]")
-    ax.set_ylabel(f"acceleration [{u['length']}/{u['time']}^2]")
-    ax.set_title("gauge acceleration")
-    ax.legend(fontsize=8)
-    return ax
+    return _labelled(ax, f"t [{u['time']}]", f"acceleration [{u['length']}/{u['time']}^2]",
+                     "gauge acceleration")
 
 
 def spectrum_panel(ax, r, u, profiles=None):
@@ -243,7 +236,12 @@ def acceleration_profile(ax, r, u, profiles):
 
 def _profile_axes(ax, u, ylabel, title):
     """x along the bodies, ``ylabel``, ``title``, a legend."""
-    ax.set_xlabel(f"x [{u['length']}]")
+    return _labelled(ax, f"x [{u['length']}]", ylabel, title)
+
+
+def _labelled(ax, xlabel, ylabel, title):
+    """The axes' labels and title, and a legend."""
+    ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.set_title(title)
     ax.legend(fontsize=8)
