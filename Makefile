@@ -7,7 +7,7 @@ SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # Debian's PETSc 3.18 (real scalars; libpetsc-real3.18-dev provides the
 # /usr/lib/petsc alternative that petsc4py's .pth file looks for).
 DEBS  := python3-petsc4py python3-mpi4py python3-h5py python3-numpy python3-scipy \
-         python3-matplotlib python3-pytest python3-pytest-xdist python3-hypothesis python3-venv \
+         python3-matplotlib python3-threadpoolctl python3-pytest python3-pytest-xdist python3-hypothesis python3-venv \
          python3-setuptools python3-pip libpetsc-real3.18-dev openmpi-bin gcc libc6-dev
 STAMP := $(VENV)/.installed
 # the compiled kernels (vstpetsc/native: the Newton for penalty pairs, the
@@ -69,6 +69,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/opensees.py
 	$(PY) bench/parallel_solvers.py
 	$(PY) bench/soil_cost.py
+	$(PY) bench/blas_threads.py
 
 bench-quick: install
 	$(PY) bench/run.py --quick --out bench/quick

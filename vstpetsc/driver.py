@@ -2,13 +2,14 @@
 progress, signals and restarts.  :func:`run` is the library's entry point;
 the command line is a thin shell over it.  Collective over ``comm``."""
 
+import contextlib
 import json
 import signal
 import sys
-
-import numpy as np
 import threading
 import time
+
+import numpy as np
 from dataclasses import dataclass
 
 from vstpetsc import model as model_mod
@@ -83,13 +84,26 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
     # Values near overflow make numpy warn, many times over, before the run
     # reports them in one line: a solution that is not finite (exit 3), or
     # energies that are not (Recorder.record).  The warnings add nothing.
-    with scoped(options), np.errstate(all="ignore"):
+    with scoped(options), np.errstate(all="ignore"), one_blas_thread():
         loop = TimeLoop(case, output, comm, quiet, out or sys.stdout, err or sys.stderr)
         info = loop.execute(restart, " ".join(map(str, options)))
     comm.barrier()
     result = Result(output)
     result.run = info
     return result
+
+
+def one_blas_thread():
+    """A context in which numpy's BLAS runs on one thread: vstpetsc's dense
+    algebra is on tiny matrices, where BLAS threads only spin, and on a
+    busy machine a run took 5-6 times as long with them (issue 29;
+    bench/blas_threads.py).  The user's setting comes back on leaving;
+    without threadpoolctl nothing changes."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 def check_output(case, output):
