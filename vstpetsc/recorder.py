@@ -220,6 +220,10 @@ def load_restart(path, case, model, energy):
         # none and the solver starts again from (u, v), equal up to rounding
         state = {name: f[name][...] for name in layout.RESTART_STATE
                  if name in f and int(f[name].attrs["slab"]) == k0}
+        if model.soil is not None and layout.SOIL_STATE not in state:
+            # the soil's reversal points and loops are not in (u, v)
+            raise InputError(f"--restart: {path} keeps no soil state at its last row (slab "
+                             f"{k0}: the run failed there); run the case again")
         energy.restore(first, last, continued=layout.ENERGY_STATE in state)
         envelopes = layout.read_envelopes(f, model)
     return k0, np.asarray(u), np.asarray(v), state or None, envelopes

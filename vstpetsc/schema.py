@@ -283,11 +283,12 @@ def _body(chk, tbl, i, names):
     sheared = None if "layers" in tbl and profile is None else shear.read_body(
         chk, tbl, where, rho, lambda key: _material(chk, tbl, where, key, x, None),
         G=profile and profile.G)
-    law = materials.read(chk, tbl, where, x, sheared is not None and sheared[0] is not None)
+    # a failed shear component was reported: its shear_law is not read
+    law = None if sheared is None else materials.read(chk, tbl, where, x, sheared[0] is not None)
     if sheared is None or law is False or any(f is None for f in fields):
         return name, None
-    return name, Body(*fields, *sheared, cells=profile.cells if profile else (),
-                      shear_law=law)
+    body = Body(*fields, *sheared, cells=profile.cells if profile else (), shear_law=law)
+    return name, (body if materials.covers(chk, body, where) else None)
 
 
 def _material(chk, tbl, where, key, x, default):

@@ -4,10 +4,11 @@ hysteretic function of the strain.  The protocol beside the boundary laws:
 
 | member | what |
 |---|---|
-| ``elements`` | the mesh elements it governs |
+| ``elements``, ``left``, ``nodes`` | the mesh elements it governs, their nodes |
+| ``start(u)``, ``snapshot()``, ``restore(flat)`` | its state at t = 0, for a restart |
 | ``slab(D1, D2, dt, tangent)`` | correction integrals Q (ne, 2), dQ/dD (ne, 2, 2) |
-| ``finish()`` | take the last evaluated slab as converged |
-| ``stress``, ``strain`` | at the last slab end, per element |
+| ``finish(D1, D2, Q, dt)`` | take the last evaluated slab as converged |
+| ``stress``, ``tau_min``, ``tau_max``, ``energies()`` | what it reports |
 
 Only the registry here knows the models by name; nothing imports PETSc.
 """
@@ -44,6 +45,23 @@ def read(chk, tbl, where, x, has_shear):
             return False
         parts.append(MODELS[model].read_part(chk, tbl_i, where_i, x))
     return False if None in parts else parts
+
+
+def covers(chk, body, where):
+    """Whether every table of the body's shear_law governs an element (a
+    table between two element midpoints would be dropped without a word);
+    reported otherwise."""
+    if not body.shear_law:
+        return True
+    x = body.node_x()
+    mid = 0.5 * (x[1:] + x[:-1])
+    empty = [i for i, part in enumerate(body.shear_law) if not part.covers(mid).any()]
+    for i in empty:
+        part = body.shear_law[i]
+        name = f"{where}.shear_law" + (f"[{i}]" if len(body.shear_law) > 1 or i else "")
+        chk.add(name, f"[{part.x_from:g}, {part.x_to:g}] holds no element midpoint "
+                f"(elements of {x[1] - x[0]:g} from x = {x[0]:g})")
+    return not empty
 
 
 def check_alone(chk, bodies, contacts, soils):

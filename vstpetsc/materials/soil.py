@@ -8,7 +8,8 @@ import numpy as np
 
 from vstpetsc.materials import masing, mkz
 
-STATE_FIELDS = ("gamma", "tau", "direction", "depth", "tau_min", "tau_max", "strain_max")
+HEAD = 3          # work, support work, the stored energy at t = 0
+PARTS = 6         # per element: gamma, tau, direction, depth, tau_min, tau_max
 
 
 class HystereticSoil:
@@ -60,13 +61,12 @@ class HystereticSoil:
         self.version += 1
         tau = self.state.tau
         self.tau_min, self.tau_max = tau.copy(), tau.copy()
-        self.strain_max = np.abs(gamma)
         self.work = self.support_work = 0.0
+        self.stored0 = self.stored_beyond_linear()
 
     def slab(self, D1, D2, dt, tangent=True):
-        """(Q, dQ/dD) of the slab for strain increments D1, D2."""
-        if self.native is not None:
-            return self.native.slab(D1, D2, dt, tangent)
+        """(Q, dQ/dD) of the slab for strain increments D1, D2 (the numpy
+        reference; the compiled kernel is called by the solver's coupling)."""
         Q, dQ, self.path = masing.slab_integrals(self.state, D1, D2, self.A, self.ke_h,
                                                  dt, tangent)
         return Q, dQ
@@ -82,11 +82,13 @@ class HystereticSoil:
                 self.native.finish(D1, D2, dt)
         else:
             gamma, tau, st.stack, direction = self.path.end()
+            # as the compiled kernel: nothing stale beyond the depth
+            beyond = np.arange(masing.DEPTH)[None, :] >= st.stack.k[:, None]
+            st.stack.g[beyond], st.stack.t[beyond] = 0.0, 0.0
         st.gamma, st.tau, st.direction = gamma, tau, direction
         self.version += 1
         np.minimum(self.tau_min, tau, out=self.tau_min)
         np.maximum(self.tau_max, tau, out=self.tau_max)
-        np.maximum(self.strain_max, np.abs(gamma), out=self.strain_max)
         self.path = None
 
     @property
@@ -103,28 +105,29 @@ class HystereticSoil:
 
     def energies(self):
         """(strain beyond the linear expression, hysteretic dissipation):
-        the elements' internal work is 1/2 u^T K u + work; what they hold
-        is 1/2 u^T K u + stored_beyond_linear; the rest was dissipated."""
+        since t = 0 the elements' internal work is the change of
+        1/2 u^T K u plus ``work``; what they hold changed by that of 1/2
+        u^T K u plus stored_beyond_linear's; the rest was dissipated."""
         stored = self.stored_beyond_linear()
-        return stored, self.work - stored
+        return stored, self.work - (stored - self.stored0)
 
     def snapshot(self):
         """Everything a restart needs, as one flat array."""
         st = self.state
-        head = np.concatenate([st.gamma, st.tau, st.direction, st.stack.k.astype(float),
-                               self.tau_min, self.tau_max, self.strain_max])
-        return np.concatenate([[self.work, self.support_work], head, st.stack.g.ravel(), st.stack.t.ravel()])
+        per = np.concatenate([st.gamma, st.tau, st.direction, st.stack.k.astype(float),
+                              self.tau_min, self.tau_max])
+        return np.concatenate([[self.work, self.support_work, self.stored0], per,
+                               st.stack.g.ravel(), st.stack.t.ravel()])
 
     def restore(self, flat):
         n = self.elements.size
-        self.work, self.support_work = float(flat[0]), float(flat[1])
-        flat = flat[1:]
-        parts = np.split(flat[1:1 + 7 * n], 7)
+        self.work, self.support_work, self.stored0 = (float(v) for v in flat[:HEAD])
+        parts = np.split(flat[HEAD:HEAD + PARTS * n], PARTS)
         st = self.state
         st.gamma, st.tau, st.direction = parts[0].copy(), parts[1].copy(), parts[2].copy()
         self.version += 1
         st.stack.k = parts[3].astype(np.int64)
-        self.tau_min, self.tau_max, self.strain_max = (p.copy() for p in parts[4:])
-        rest = flat[1 + 7 * n:]
+        self.tau_min, self.tau_max = parts[4].copy(), parts[5].copy()
+        rest = flat[HEAD + PARTS * n:]
         st.stack.g = rest[:n * masing.DEPTH].reshape(n, masing.DEPTH).copy()
         st.stack.t = rest[n * masing.DEPTH:].reshape(n, masing.DEPTH).copy()

@@ -120,16 +120,6 @@ class NativeMasing:
         for name, arr in zip(("gamma", "tau", "dir", "sg", "st", "k"), kept):
             setattr(self.s, name, _ptr(arr))
 
-    def slab(self, D1, D2, dt, tangent):
-        """(Q, dQ or None) for strain increments D1, D2 (copies)."""
-        self.D[:, 0], self.D[:, 1] = D1, D2
-        self._bind_state()
-        self.s.dt = dt
-        self.s.dQ = self.dQ_ptr if tangent else None
-        self.s.gamma1 = None
-        self.lib.vst_masing_slab(ctypes.byref(self.s))
-        return self.Q.copy(), (self.dQ.copy() if tangent else None)
-
     def bind_tangent_data(self, base, slots, coef):
         """Let every residual with the tangent also write the tangent's
         block CSR data (``data``): ``base`` plus each element's blocks at

@@ -64,7 +64,7 @@ class SoilNewton:
     def __init__(self, soil, solver, ops, fixed_nodes):
         self.soil = soil
         self.c = SoilCoupling(soil, solver, fixed_nodes)
-        self.factors = TangentFactors(self.c, solver, ops, fixed_nodes)
+        self.factors = None          # the tangent's factors (each Newton makes its own)
         self.A, self.linear, self.dt = solver.A, solver.linear, solver.dt
         self.carry = solver.carry
         self.F, self.step = solver.X.duplicate(), solver.X.duplicate()
@@ -127,7 +127,11 @@ class SoilNewton:
     def close(self, X):
         """X is the slab's solution: the soil's state moves to the slab end."""
         values = self.c.gather(X)
-        if self.evaluated is not None and np.array_equal(values, self.evaluated[0]):
+        # the compiled kernel's last call at X closes the slab; the numpy
+        # reference evaluates X once more (its path object is the state's
+        # next one, and a finite-difference Jacobian may have moved it)
+        native = self.soil.native is not None
+        if native and self.evaluated is not None and np.array_equal(values, self.evaluated[0]):
             _, D, Q, rows = self.evaluated
         else:
             rows, _, D, Q = self.c.residual(values, tangent=False)
@@ -164,6 +168,8 @@ class PlainSoilNewton(SoilNewton):
         self.atol = opts.getReal(PREFIX + "snes_atol", 0.0)
         self.max_it = opts.getInt(PREFIX + "snes_max_it", MAX_IT)
         self.compiled = self._compiled(solver, ops, fixed_nodes)
+        if self.compiled is None:
+            self.factors = TangentFactors(self.c, solver, ops, fixed_nodes)
 
     def _compiled(self, solver, ops, fixed_nodes):
         """The compiled loop (one rank, the compiled kernel), or None; it
@@ -233,6 +239,7 @@ class SnesSoilNewton(SoilNewton):
 
     def __init__(self, soil, solver, ops, fixed_nodes, fd_jacobian=False):
         super().__init__(soil, solver, ops, fixed_nodes)
+        self.factors = TangentFactors(self.c, solver, ops, fixed_nodes)
         self.fd_jacobian = fd_jacobian
         self.blocks = None
         J = PETSc.Mat().createPython(self.A.getSizes(), context=_Tangent(self),

@@ -97,7 +97,7 @@ class TangentFactors:
     """LU factors of A + the soil's tangent, kept and reused until
     :meth:`refresh` is asked; until the first refresh, A's own factors
     (``linear``).  On several ranks every rank factors the whole matrix
-    (PETSc's redundant PC): the same factors as on one rank."""
+    (PETSc's redundant PC), with the one-rank LU's settings."""
 
     def __init__(self, coupling, solver, ops, fixed_nodes):
         from vstpetsc.petsc.matrices import block_matrix

@@ -170,7 +170,7 @@ def gauge_panel(ax, r, u, profiles=None):
 
     for name in r.gauges:
         g = r.gauge(name)
-        component = "shear" if seismic.has_shear(g) else "axial"
+        component = seismic.moving_component(g)
         ax.plot(g.time, seismic.gauge_acceleration(g, component), lw=0.7,
                 label=f"{name} (x = {float(g.attrs['x']):g}, {component})")
     return _labelled(ax, f"t [{u['time']}]", f"acceleration [{u['length']}/{u['time']}^2]",
@@ -184,7 +184,7 @@ def spectrum_panel(ax, r, u, profiles=None):
 
     name = seismic.top_gauge(r)
     g = r.gauge(name)
-    component = "shear" if seismic.has_shear(g) else "axial"
+    component = seismic.moving_component(g)
     spec = response_spectrum(seismic.gauge_acceleration(g, component), g.dt)
     spectrum_axes(ax, spec, u)
     ax.set_title(f"response spectrum, 5 % damping: gauge {name} ({component})")

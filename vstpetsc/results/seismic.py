@@ -16,6 +16,14 @@ def has_shear(gauge):
     return "shear_v" in gauge.keys()
 
 
+def moving_component(gauge):
+    """The component a plot shows: shear where the gauge has one, unless
+    only the axial field moves there."""
+    if not has_shear(gauge):
+        return "axial"
+    return "axial" if not np.abs(gauge.shear_v).max() and np.abs(gauge.v).max() else "shear"
+
+
 def gauge_acceleration(gauge, component):
     """The gauge's acceleration at every slab end, of ``component``."""
     return gauge.shear_acceleration if component == "shear" else gauge.acceleration
