@@ -69,144 +69,144 @@ static inline double strain(double gn, double D1, double D2, double th)
     return gn + (th - t2) * D1 + t2 * D2;
 }
 
+/* one element's path through the slab (SlabPath of masing.py) */
+typedef struct {
+    double gn, D1, D2, A, kh, cut, d1, d2, tc, slope_c;
+    int reverses, has[2];
+    long k, k2;                               /* depth at the start, after the turn */
+    double *lg, *lt;                          /* its stack (a copy) */
+    double tau[2][GP], slope[2][GP], th[2][GP], g[2][GP];
+    int new_branch[GP];
+} Path;
+
+/* the pieces' cut, directions and the start's stack (a turn at the slab
+ * start pushes the start point) */
+static void path_start(const MasingSlab *m, long e, Path *p)
+{
+    p->gn = m->gamma[e], p->D1 = m->D[2 * e], p->D2 = m->D[2 * e + 1];
+    p->A = m->area[e], p->kh = m->keh[e];
+    p->reverses = p->D1 * p->D2 < 0.0;
+    const double diff = p->D1 - p->D2;
+    double cut = diff != 0.0 ? p->D1 / diff : 1.0;
+    p->cut = diff == 0.0 ? 1.0 : (cut < 0.0 ? 0.0 : (cut > 1.0 ? 1.0 : cut));
+    const double rate = p->D1 != 0.0 ? p->D1 : p->D2;
+    p->d1 = rate != 0.0 ? sgn(rate) : m->dir[e];
+    p->d2 = p->reverses ? -p->d1 : p->d1;
+    p->k = m->k[e];
+    memcpy(p->lg, m->sg + e * m->depth, (size_t)p->k * sizeof(double));
+    memcpy(p->lt, m->st + e * m->depth, (size_t)p->k * sizeof(double));
+    if (m->dir[e] != 0.0 && p->d1 != m->dir[e])
+        push(p->lg, p->lt, &p->k, m->depth, p->gn, m->tau[e]);
+    p->has[0] = p->cut > 0.0, p->has[1] = p->cut < 1.0;
+}
+
+/* stress and slope at piece j's Gauss points (a piece of length 0, in a
+ * slab that does not turn, adds exact zeros in the Python reference and
+ * is skipped); the turn pushes its point between the two pieces */
+static void path_points(const MasingSlab *m, long e, Path *p)
+{
+    long kc = p->k;
+    p->tc = p->slope_c = 0.0;
+    if (p->reverses) {
+        const double gc = strain(p->gn, p->D1, p->D2, p->cut);
+        kc = depth_at(p->lg, p->k, gc, p->d1);
+        stress(m, e, p->lg, p->lt, kc, gc, &p->tc, &p->slope_c);
+    }
+    for (int j = 0; j < 2; j++) {
+        if (j == 1) {
+            p->k2 = p->k;
+            if (p->reverses) {
+                p->k2 = kc;
+                push(p->lg, p->lt, &p->k2, m->depth, strain(p->gn, p->D1, p->D2, p->cut), p->tc);
+            }
+        }
+        if (!p->has[j])
+            continue;
+        const long k0 = j == 0 ? p->k : p->k2;
+        const double d = j == 0 ? p->d1 : p->d2;
+        for (int q = 0; q < GP; q++) {
+            double th = j == 0 ? p->cut * m->xg[q] : p->cut + (1.0 - p->cut) * m->xg[q];
+            double g = strain(p->gn, p->D1, p->D2, th);
+            long kq = depth_at(p->lg, k0, g, d);
+            stress(m, e, p->lg, p->lt, kq, g, &p->tau[j][q], &p->slope[j][q]);
+            p->th[j][q] = th, p->g[j][q] = g;
+            if (j == 1)
+                p->new_branch[q] = p->reverses && kq == p->k2;
+        }
+    }
+}
+
+/* piece j's Gauss sums: Q_a, dQ_a/dD_b at a fixed cut (the turning
+ * point's strain enters the new branch) and d/d theta* of the sums */
+static void piece_sums(const MasingSlab *m, const Path *p, int j, double Q[2], double dQ[2][2],
+                       double dQcut[2])
+{
+    const double len = j == 0 ? p->cut : 1.0 - p->cut, A = p->A, kh = p->kh;
+    const double ic[2] = {p->cut - 0.5 * p->cut * p->cut, 0.5 * p->cut * p->cut};
+    for (int a = 0; a < 2; a++) {
+        double sum = 0.0, sb[2] = {0.0, 0.0}, scut = 0.0, sign = a == 0 ? -1.0 : 1.0;
+        for (int q = 0; q < GP; q++) {
+            double th = p->th[j][q], T = a == 0 ? 1.0 - th : th;
+            double c = A * p->tau[j][q] - kh * p->g[j][q], dc = A * p->slope[j][q] - kh;
+            sum += len * m->wg[q] * T * c;
+            for (int b = 0; b < 2; b++) {
+                double ib = b == 0 ? th - 0.5 * th * th : 0.5 * th * th;
+                double integrand = dc * ib;
+                if (j == 1 && p->reverses)
+                    integrand += (p->new_branch[q] ? A * (p->slope_c - p->slope[j][q]) : 0.0) * ic[b];
+                sb[b] += len * m->wg[q] * T * integrand;
+            }
+            double r = (1.0 - th) * p->D1 + th * p->D2;
+            double df = sign * c + T * (dc * r);
+            double moves = j == 0 ? m->xg[q] : 1.0 - m->xg[q];
+            scut += m->wg[q] * ((j == 0 ? 1.0 : -1.0) * T * c + len * moves * df);
+        }
+        Q[a] += sum;
+        dQ[a][0] += sb[0], dQ[a][1] += sb[1];
+        if (p->reverses)
+            dQcut[a] += scut;
+    }
+}
+
+/* the state at the slab end into the end buffers (reused: nothing stale
+ * beyond the depth) */
+static void path_end(const MasingSlab *m, long e, const Path *p)
+{
+    double g1 = strain(p->gn, p->D1, p->D2, 1.0), t1, unused;
+    long ke = depth_at(p->lg, p->k2, g1, p->d2);
+    stress(m, e, p->lg, p->lt, ke, g1, &t1, &unused);
+    m->gamma1[e] = g1, m->tau1[e] = t1, m->dir1[e] = p->d2, m->k1[e] = ke;
+    memcpy(m->sg1 + e * m->depth, p->lg, (size_t)ke * sizeof(double));
+    memcpy(m->st1 + e * m->depth, p->lt, (size_t)ke * sizeof(double));
+    memset(m->sg1 + e * m->depth + ke, 0, (size_t)(m->depth - ke) * sizeof(double));
+    memset(m->st1 + e * m->depth + ke, 0, (size_t)(m->depth - ke) * sizeof(double));
+}
+
 /* one element; lg, lt: scratch of depth doubles each */
 static void element(const MasingSlab *m, long e, double *lg, double *lt)
 {
-    const double gn = m->gamma[e], D1 = m->D[2 * e], D2 = m->D[2 * e + 1];
-    const double A = m->area[e], kh = m->keh[e];
-    const int reverses = D1 * D2 < 0.0;
-    const double diff = D1 - D2;
-    double cut = diff != 0.0 ? D1 / diff : 1.0;
-    cut = diff == 0.0 ? 1.0 : (cut < 0.0 ? 0.0 : (cut > 1.0 ? 1.0 : cut));
-    const double rate = D1 != 0.0 ? D1 : D2;
-    const double d1 = rate != 0.0 ? sgn(rate) : m->dir[e];
-    const double d2 = reverses ? -d1 : d1;
-    long k = m->k[e];
-    memcpy(lg, m->sg + e * m->depth, (size_t)k * sizeof(double));
-    memcpy(lt, m->st + e * m->depth, (size_t)k * sizeof(double));
-    if (m->dir[e] != 0.0 && d1 != m->dir[e])
-        push(lg, lt, &k, m->depth, gn, m->tau[e]);
-
+    Path p;
+    p.lg = lg, p.lt = lt;
+    path_start(m, e, &p);
+    path_points(m, e, &p);
     double Q[2] = {0.0, 0.0}, dQ[2][2] = {{0.0, 0.0}, {0.0, 0.0}}, dQcut[2] = {0.0, 0.0};
-    const double ic[2] = {cut - 0.5 * cut * cut, 0.5 * cut * cut};
-    /* the turning point (only where the strain turns inside the slab) */
-    double tc = 0.0, slope_c = 0.0;
-    long kc = k;
-    if (reverses) {
-        const double gc = strain(gn, D1, D2, cut);
-        kc = depth_at(lg, k, gc, d1);
-        stress(m, e, lg, lt, kc, gc, &tc, &slope_c);
-    }
-
-    /* the first piece from the start's stack; the second from the stack
-     * after the turn (pushed only where the strain turns inside); a piece
-     * of length 0 (a slab that does not turn) adds exact zeros in the
-     * Python reference and is skipped here */
-    double tau_p[2][GP], slope_p[2][GP], th_p[2][GP], g_p[2][GP];
-    int new_branch[GP] = {0};
-    const int has[2] = {cut > 0.0, cut < 1.0};
-    if (has[0]) {
-        for (int q = 0; q < GP; q++) {
-            double th = cut * m->xg[q];
-            double g = strain(gn, D1, D2, th);
-            long kq = depth_at(lg, k, g, d1);
-            stress(m, e, lg, lt, kq, g, &tau_p[0][q], &slope_p[0][q]);
-            th_p[0][q] = th;
-            g_p[0][q] = g;
-        }
-    }
-    long k2 = k;
-    if (reverses) {
-        k2 = kc;
-        push(lg, lt, &k2, m->depth, strain(gn, D1, D2, cut), tc);
-    }
-    if (has[1]) {
-        for (int q = 0; q < GP; q++) {
-            double th = cut + (1.0 - cut) * m->xg[q];
-            double g = strain(gn, D1, D2, th);
-            long kq = depth_at(lg, k2, g, d2);
-            stress(m, e, lg, lt, kq, g, &tau_p[1][q], &slope_p[1][q]);
-            th_p[1][q] = th;
-            g_p[1][q] = g;
-            new_branch[q] = reverses && kq == k2;
-        }
-    }
-
-    for (int j = 0; j < 2; j++) {
-        if (!has[j])
-            continue;
-        const double len = j == 0 ? cut : 1.0 - cut;
-        for (int a = 0; a < 2; a++) {
-            double sum = 0.0;
-            for (int q = 0; q < GP; q++) {
-                double th = th_p[j][q];
-                double T = a == 0 ? 1.0 - th : th;
-                double c = A * tau_p[j][q] - kh * g_p[j][q];
-                sum += len * m->wg[q] * T * c;
-            }
-            Q[a] += sum;
-        }
-        if (!m->dQ)
-            continue;
-        for (int a = 0; a < 2; a++) {
-            for (int b = 0; b < 2; b++) {
-                double sum = 0.0;
-                for (int q = 0; q < GP; q++) {
-                    double th = th_p[j][q];
-                    double T = a == 0 ? 1.0 - th : th;
-                    double ib = b == 0 ? th - 0.5 * th * th : 0.5 * th * th;
-                    double integrand = (A * slope_p[j][q] - kh) * ib;
-                    if (j == 1 && reverses)
-                        integrand += (new_branch[q] ? A * (slope_c - slope_p[j][q]) : 0.0) * ic[b];
-                    sum += len * m->wg[q] * T * integrand;
-                }
-                dQ[a][b] += sum;
-            }
-        }
-        if (reverses) {       /* d/d theta* of this piece's Gauss sums */
-            const double moves_sign = j == 0 ? 1.0 : -1.0;
-            for (int a = 0; a < 2; a++) {
-                double sum = 0.0, sign = a == 0 ? -1.0 : 1.0;
-                for (int q = 0; q < GP; q++) {
-                    double th = th_p[j][q];
-                    double T = a == 0 ? 1.0 - th : th;
-                    double c = A * tau_p[j][q] - kh * g_p[j][q];
-                    double r = (1.0 - th) * D1 + th * D2;
-                    double df = sign * c + T * ((A * slope_p[j][q] - kh) * r);
-                    double moves = j == 0 ? m->xg[q] : 1.0 - m->xg[q];
-                    sum += m->wg[q] * (moves_sign * T * c + len * moves * df);
-                }
-                dQcut[a] += sum;
-            }
-        }
-    }
+    for (int j = 0; j < 2; j++)
+        if (p.has[j])
+            piece_sums(m, &p, j, Q, dQ, dQcut);
     m->Q[2 * e] = m->dt * Q[0];
     m->Q[2 * e + 1] = m->dt * Q[1];
     if (m->dQ) {
         double dcut[2] = {0.0, 0.0};
-        if (reverses) {
-            double den = diff * diff;
-            dcut[0] = -D2 / den;
-            dcut[1] = D1 / den;
+        if (p.reverses) {
+            double den = (p.D1 - p.D2) * (p.D1 - p.D2);
+            dcut[0] = -p.D2 / den, dcut[1] = p.D1 / den;
         }
         for (int a = 0; a < 2; a++)
             for (int b = 0; b < 2; b++)
                 m->dQ[4 * e + 2 * a + b] = m->dt * (dQ[a][b] + dQcut[a] * dcut[b]);
     }
-    if (m->gamma1) {          /* the state at the slab end */
-        double g1 = strain(gn, D1, D2, 1.0), t1, unused;
-        long ke = depth_at(lg, k2, g1, d2);
-        stress(m, e, lg, lt, ke, g1, &t1, &unused);
-        m->gamma1[e] = g1;
-        m->tau1[e] = t1;
-        m->dir1[e] = d2;
-        m->k1[e] = ke;
-        memcpy(m->sg1 + e * m->depth, lg, (size_t)ke * sizeof(double));
-        memcpy(m->st1 + e * m->depth, lt, (size_t)ke * sizeof(double));
-        /* the buffers are reused: nothing stale beyond the depth */
-        memset(m->sg1 + e * m->depth + ke, 0, (size_t)(m->depth - ke) * sizeof(double));
-        memset(m->st1 + e * m->depth + ke, 0, (size_t)(m->depth - ke) * sizeof(double));
-    }
+    if (m->gamma1)
+        path_end(m, e, &p);
 }
 
 static void tangent_blocks(MasingSlab *m);
