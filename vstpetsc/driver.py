@@ -93,17 +93,28 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
     return result
 
 
+_BLAS = []          # the process's ThreadpoolController (None: no threadpoolctl)
+
+
 def one_blas_thread():
     """A context in which numpy's BLAS runs on one thread: vstpetsc's dense
     algebra is on tiny matrices, where BLAS threads only spin, and on a
     busy machine a run took 5-6 times as long with them (issue 29;
     bench/blas_threads.py).  The user's setting comes back on leaving;
-    without threadpoolctl nothing changes."""
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:
+    without threadpoolctl nothing changes.  The libraries are looked up
+    once per process (a lookup costs milliseconds: every run would pay
+    them)."""
+    if not _BLAS:
+        try:
+            from threadpoolctl import ThreadpoolController
+        except ImportError:
+            _BLAS.append(None)
+        else:
+            _BLAS.append(ThreadpoolController())
+    controller = _BLAS[0]
+    if controller is None:
         return contextlib.nullcontext()
-    return threadpool_limits(limits=1, user_api="blas")
+    return controller.limit(limits=1, user_api="blas")
 
 
 def check_output(case, output):
