@@ -7,8 +7,6 @@ import ctypes
 
 import numpy as np
 
-from vstpetsc import slab
-
 _P = ctypes.c_void_p
 
 
@@ -29,18 +27,17 @@ class CompiledSoilNewton:
     the compiled kernel ``native``); it stands in for the newton's factors
     too (``fresh``, ``blocks``, ``refresh``)."""
 
-    def __init__(self, lib, newton, native, solver, ops, fixed_nodes, tolerances):
+    def __init__(self, lib, newton, native, solver, tolerances):
         for name in ("vst_soil_newton", "vst_soil_refresh", "vst_soil_factor_a"):
             getattr(lib, name).restype = None
         lib.vst_soil_newton.argtypes = [_P, _P, _P]
         lib.vst_soil_refresh.argtypes = lib.vst_soil_factor_a.argtypes = [_P]
         self.lib, self.native = lib, native
         c, soil = newton.c, newton.soil
-        fixed = (2 * np.asarray(fixed_nodes, dtype=int)[:, None] + np.arange(2)).ravel()
-        N = ops.m_diag.size
+        A = np.ascontiguousarray(solver.matrix_blocks())
+        N = A.shape[0]
         self.keep = {
-            "A": np.ascontiguousarray(slab.impose_dirichlet(
-                slab.slab_matrix(ops, solver.dt, solver.W, solver.V), fixed, 1.0)),
+            "A": A,
             "J": np.zeros((N, 3, 2, 2)), "Minv": np.zeros((N, 2, 2)), "Cp": np.zeros((N, 2, 2)),
             "Ainv": np.zeros((N, 2, 2)), "ACp": np.zeros((N, 2, 2)),
             "F": np.zeros(2 * N), "y": np.zeros(2 * N),

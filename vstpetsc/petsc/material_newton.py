@@ -61,9 +61,9 @@ class SoilNewton:
     """What both Newtons share: the start, the convergence test, closing
     the slab (the soil's state, the supports' work) and the carry."""
 
-    def __init__(self, soil, solver, ops, fixed_nodes):
+    def __init__(self, soil, solver):
         self.soil = soil
-        self.c = SoilCoupling(soil, solver, fixed_nodes)
+        self.c = SoilCoupling(soil, solver)
         self.factors = None          # the tangent's factors (each Newton makes its own)
         self.A, self.linear, self.dt = solver.A, solver.linear, solver.dt
         self.carry = solver.carry
@@ -161,17 +161,17 @@ class PlainSoilNewton(SoilNewton):
     """Newton in a plain loop; tolerances from ``-snes_rtol``, ``-snes_atol``
     and ``-snes_max_it`` as the laws' plain Newton reads them."""
 
-    def __init__(self, soil, solver, ops, fixed_nodes):
-        super().__init__(soil, solver, ops, fixed_nodes)
+    def __init__(self, soil, solver):
+        super().__init__(soil, solver)
         opts = PETSc.Options()
         self.rtol = opts.getReal(PREFIX + "snes_rtol", RTOL)
         self.atol = opts.getReal(PREFIX + "snes_atol", 0.0)
         self.max_it = opts.getInt(PREFIX + "snes_max_it", MAX_IT)
-        self.compiled = self._compiled(solver, ops, fixed_nodes)
+        self.compiled = self._compiled(solver)
         if self.compiled is None:
-            self.factors = TangentFactors(self.c, solver, ops, fixed_nodes)
+            self.factors = TangentFactors(self.c, solver)
 
-    def _compiled(self, solver, ops, fixed_nodes):
+    def _compiled(self, solver):
         """The compiled loop (one rank, the compiled kernel), or None; it
         then holds the factors."""
         native = self.soil.native
@@ -180,7 +180,7 @@ class PlainSoilNewton(SoilNewton):
             return None
         from vstpetsc.native.soil_newton import CompiledSoilNewton
 
-        compiled = CompiledSoilNewton(native.lib, self, native, solver, ops, fixed_nodes,
+        compiled = CompiledSoilNewton(native.lib, self, native, solver,
                                       (self.rtol, self.atol, SLOW, LAGGED, self.max_it))
         self.factors = compiled
         self.b_array = solver.br
@@ -237,9 +237,9 @@ class PlainSoilNewton(SoilNewton):
 class SnesSoilNewton(SoilNewton):
     """The SNES of slabs with a hysteretic soil."""
 
-    def __init__(self, soil, solver, ops, fixed_nodes, fd_jacobian=False):
-        super().__init__(soil, solver, ops, fixed_nodes)
-        self.factors = TangentFactors(self.c, solver, ops, fixed_nodes)
+    def __init__(self, soil, solver, fd_jacobian=False):
+        super().__init__(soil, solver)
+        self.factors = TangentFactors(self.c, solver)
         self.fd_jacobian = fd_jacobian
         self.blocks = None
         J = PETSc.Mat().createPython(self.A.getSizes(), context=_Tangent(self),
@@ -348,7 +348,7 @@ class _Tangent:
         return (out[0] - out[1]) / (2.0 * h)
 
 
-def of(model, solver, options, fixed_nodes):
+def of(model, solver, options):
     """The Newton of ``model``'s soil, or None without one."""
     soil = getattr(model, "soil", None)
     if soil is None:
@@ -363,5 +363,5 @@ def of(model, solver, options, fixed_nodes):
 
             soil.native = NativeMasing(lib, soil)
     if not options.fd_jacobian and not wants_snes():
-        return PlainSoilNewton(soil, solver, model.ops, fixed_nodes)
-    return SnesSoilNewton(soil, solver, model.ops, fixed_nodes, options.fd_jacobian)
+        return PlainSoilNewton(soil, solver)
+    return SnesSoilNewton(soil, solver, options.fd_jacobian)

@@ -67,10 +67,9 @@ class SlabSolver:
         self.Vinv = np.linalg.inv(self.V)
         self.WT = self.W @ slab.CARRY                     # W T
         self.carry = self.W @ (slab.CARRY - np.eye(2)) @ np.linalg.inv(self.W)
-        fixed = (2 * loads.fixed_nodes[:, None] + np.arange(2)).ravel()
-        self.A = block_matrix(slab.impose_dirichlet(slab.slab_matrix(ops, dt, self.W, self.V),
-                                                    fixed, 1.0), nodes, comm, options.mat_type)
         self.ops = ops
+        self.fixed_nodes = loads.fixed_nodes
+        self.A = block_matrix(self.matrix_blocks(), nodes, comm, options.mat_type)
         # vectors stored in numpy arrays of ours (the per-slab numpy work
         # uses the arrays, PETSc the vectors)
         self.Y, self.y = self.space.array_vector()    # (u, v) per node, for output
@@ -93,9 +92,16 @@ class SlabSolver:
         self.end = SlabClose.of(self, ops, options.native) or SlabEnd(self, ops)
         self.nonlinear = LawSolver(model, options, self)
         self.laws = self.nonlinear.laws
-        self.material = material_newton.of(model, self, options, loads.fixed_nodes)
+        self.material = material_newton.of(model, self, options)
         self.work = {"damping": 0.0}       # sums, the same on every rank
         self.local_work = 0.0          # this rank's share of the external work
+
+    def matrix_blocks(self):
+        """The block bands (N, 3, 2, 2) of A: the slab matrix in the mixed
+        unknowns and rows, prescribed rows replaced by identities."""
+        fixed = (2 * self.fixed_nodes[:, None] + np.arange(2)).ravel()
+        return slab.impose_dirichlet(slab.slab_matrix(self.ops, self.dt, self.W, self.V),
+                                     fixed, 1.0)
 
     def describe(self):
         soil = "" if self.material is None else self.material.describe()

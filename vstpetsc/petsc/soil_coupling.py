@@ -16,7 +16,7 @@ class SoilCoupling:
     W r (free nodes only: a prescribed node's rows are identities in A)
     and the element blocks; compiled when ``soil.native`` is set."""
 
-    def __init__(self, soil, solver, fixed_nodes):
+    def __init__(self, soil, solver):
         self.soil, self.dt = soil, solver.dt
         nodes = soil.nodes
         dofs = (2 * nodes[:, None] + np.arange(2)).ravel()
@@ -26,7 +26,7 @@ class SoilCoupling:
         self.left = np.searchsorted(nodes, soil.left)
         self.right = self.left + 1
         self.n = nodes.size
-        self.free = (~np.isin(nodes, fixed_nodes)).astype(float)[:, None]
+        self.free = (~np.isin(nodes, solver.fixed_nodes)).astype(float)[:, None]
         self.held = 1.0 - self.free
         self.any_held = bool(self.held.any())
         self.V, self.W = solver.V, solver.W
@@ -99,16 +99,14 @@ class TangentFactors:
     (``linear``).  On several ranks every rank factors the whole matrix
     (PETSc's redundant PC), with the one-rank LU's settings."""
 
-    def __init__(self, coupling, solver, ops, fixed_nodes):
+    def __init__(self, coupling, solver):
         from vstpetsc.petsc.matrices import block_matrix
 
         self.linear = solver.linear
         self.fresh = False
         self.blocks = np.zeros((coupling.soil.left.size, 2, 2))     # of the last refresh
         comm = solver.space.comm
-        fixed = (2 * np.asarray(fixed_nodes, dtype=int)[:, None] + np.arange(2)).ravel()
-        blocks = slab.impose_dirichlet(slab.slab_matrix(ops, solver.dt, solver.W, solver.V),
-                                       fixed, 1.0)
+        blocks = solver.matrix_blocks()
         n0, n1 = solver.space.nodes
         self.P = block_matrix(blocks, (n0, n1), comm)
         self.lu = self._factors(comm)
