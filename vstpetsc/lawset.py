@@ -32,6 +32,8 @@ class LawSet:
         # the laws that read the slab's start time (a Python call per law
         # and slab on the hot path otherwise: pile driving has a law per soil node)
         self.timed = [law for law in self.laws if type(law).start_time is not Law.start_time]
+        self.finished = list(self.laws)              # the laws finish_slab calls one by one
+        self.batches = []                            # and those that finish many at once
         self.u = np.zeros(self.nodes.size)           # displacement of the nodes at t^n
         self.f = np.zeros(self.reduced)              # the laws' terms of the last evaluation
         self.jac = np.zeros((self.reduced, self.reduced))
@@ -78,6 +80,15 @@ class LawSet:
         self.evaluate(self.P.T @ s)
         return self.P @ self.jac @ self.P.T
 
+    def hand_over(self, laws, batch):
+        """Let ``batch`` finish ``laws`` (a compiled path that keeps their
+        state in arrays, :class:`vstpetsc.native.smith_slab.SmithBank`)."""
+        taken = {id(law) for law in laws}
+        self.finished = [law for law in self.finished if id(law) not in taken]
+        self.batches.append(batch)
+
     def finish_slab(self, t0, dt):
-        for law in self.laws:
+        for law in self.finished:
             law.finish_slab(t0, dt)
+        for batch in self.batches:
+            batch.finish_slab(t0, dt)

@@ -108,6 +108,7 @@ class SoilNode(Law):
         self.impulse = 0.0
         self.last = None
         self.where = "soil"             # the table, for messages (set by build)
+        self.report = None              # its table's SoilReport (set by it)
 
     def start_slab(self, u, dt):
         self.wn = float(self.signs[0] * u[0])
@@ -188,12 +189,17 @@ class SoilReport(Law):
         # a restart continues it bit for bit
         self.tally = [0.0]
         for node in self.nodes_all:
-            node.tally = self.tally
+            node.tally, node.report = self.tally, self
+        # a compiled path keeping the nodes' state in arrays writes it back
+        # to them before a read (native/smith_slab.py SmithBank)
+        self.before_read = None
 
     def series_shape(self, key):
         return (len(self.nodes_all),) if key == "slip" else ()
 
     def values(self, u):
+        if self.before_read is not None:
+            self.before_read()
         return {"toe_force": self.toe.impulse / self.dt if self.toe else 0.0,
                 "shaft_force": sum(n.impulse for n in self.shaft) / self.dt,
                 "energy": self.tally[0],
@@ -208,6 +214,8 @@ class SoilReport(Law):
     def final_attrs(self):
         """``set`` (the toe's plastic slip: the blow's permanent set) and
         ``blow_count`` (1 / set; inf at refusal)."""
+        if self.before_read is not None:
+            self.before_read()
         s = self.toe.p if self.toe else 0.0
         return {"set": s, "blow_count": 1.0 / s if s > 0.0 else math.inf}
 

@@ -10,6 +10,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "bands.h"
 #include "masing.h"
 
 typedef struct {
@@ -32,64 +33,6 @@ typedef struct {
     int iterations, converged;
     double fnorm;
 } SoilNewton;
-
-static void inv2(const double *a, double *out)
-{
-    double det = a[0] * a[3] - a[1] * a[2];
-    out[0] = a[3] / det;
-    out[1] = -a[1] / det;
-    out[2] = -a[2] / det;
-    out[3] = a[0] / det;
-}
-
-static void mul2(const double *a, const double *b, double *out)     /* out = a b */
-{
-    double o0 = a[0] * b[0] + a[1] * b[2], o1 = a[0] * b[1] + a[1] * b[3];
-    double o2 = a[2] * b[0] + a[3] * b[2], o3 = a[2] * b[1] + a[3] * b[3];
-    out[0] = o0, out[1] = o1, out[2] = o2, out[3] = o3;
-}
-
-static void mv2(const double *a, const double *x, double *out)      /* out = a x */
-{
-    double o0 = a[0] * x[0] + a[1] * x[1], o1 = a[2] * x[0] + a[3] * x[1];
-    out[0] = o0, out[1] = o1;
-}
-
-/* block Thomas factors of the bands B: Minv_i = (D_i - L_i Cp_{i-1})^{-1},
- * Cp_i = Minv_i U_i */
-static void factor(long N, const double *B, double *Minv, double *Cp)
-{
-    for (long i = 0; i < N; i++) {
-        const double *L = B + 12 * i, *D = L + 4, *U = L + 8;
-        double M[4] = {D[0], D[1], D[2], D[3]}, t[4];
-        if (i > 0) {
-            mul2(L, Cp + 4 * (i - 1), t);
-            for (int k = 0; k < 4; k++)
-                M[k] -= t[k];
-        }
-        inv2(M, Minv + 4 * i);
-        mul2(Minv + 4 * i, U, Cp + 4 * i);
-    }
-}
-
-/* y = B^{-1} r from the factors */
-static void solve(long N, const double *B, const double *Minv, const double *Cp,
-                  const double *r, double *y)
-{
-    for (long i = 0; i < N; i++) {
-        double t[2] = {r[2 * i], r[2 * i + 1]}, u[2];
-        if (i > 0) {
-            mv2(B + 12 * i, y + 2 * (i - 1), u);
-            t[0] -= u[0], t[1] -= u[1];
-        }
-        mv2(Minv + 4 * i, t, y + 2 * i);
-    }
-    for (long i = N - 2; i >= 0; i--) {
-        double u[2];
-        mv2(Cp + 4 * i, y + 2 * (i + 1), u);
-        y[2 * i] -= u[0], y[2 * i + 1] -= u[1];
-    }
-}
 
 static double norm(const double *x, long n)
 {
@@ -173,13 +116,13 @@ void vst_soil_refresh(SoilNewton *s)
 {
     memcpy(s->kept_blocks, s->m->blocks, (size_t)(4 * s->m->ne) * sizeof(double));
     tangent(s);
-    factor(s->N, s->J, s->Minv, s->Cp);
+    bands_factor(s->N, s->J, s->Minv, s->Cp);
     s->fresh = 1;
 }
 
 void vst_soil_factor_a(SoilNewton *s)
 {
-    factor(s->N, s->A, s->Ainv, s->ACp);
+    bands_factor(s->N, s->A, s->Ainv, s->ACp);
 }
 
 /* Newton from X (A^{-1} b on entry), X becomes the slab's solution; the
@@ -197,7 +140,7 @@ void vst_soil_newton(SoilNewton *s, const double *b, double *X)
         any |= s->rows_last[2 * i] != 0.0 || s->rows_last[2 * i + 1] != 0.0;
     }
     if (any) {
-        solve(s->N, s->A, s->Ainv, s->ACp, s->F, s->y);
+        bands_solve(s->N, s->A, s->Ainv, s->ACp, s->F, s->y);
         for (long k = 0; k < n2; k++)
             X[k] -= s->y[k];
     }
@@ -230,9 +173,9 @@ void vst_soil_newton(SoilNewton *s, const double *b, double *X)
         with_tangent = !(it > 0 && fnorm * (fnorm / last) < 0.01 * target);
         last = fnorm;
         if (s->fresh)
-            solve(s->N, s->J, s->Minv, s->Cp, s->F, s->y);
+            bands_solve(s->N, s->J, s->Minv, s->Cp, s->F, s->y);
         else
-            solve(s->N, s->A, s->Ainv, s->ACp, s->F, s->y);
+            bands_solve(s->N, s->A, s->Ainv, s->ACp, s->F, s->y);
         for (long k = 0; k < n2; k++)
             X[k] -= s->y[k];
     }

@@ -6,6 +6,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc import native
+from vstpetsc.native import smith_slab
 from vstpetsc.lawset import LawSet
 from vstpetsc.petsc.influence import LawInfluence
 from vstpetsc.petsc.newton import Coupling, Full, SnesCondensed
@@ -67,8 +68,11 @@ class LawSolver:
             tolerances = dict(rtol=opts.getReal(PREFIX + "snes_rtol", 1e-12),
                               atol=opts.getReal(PREFIX + "snes_atol", 1e-50),
                               max_it=opts.getInt(PREFIX + "snes_max_it", 30))
-            if options.native and native.library() is not None and \
-                    native.takes(self.laws.laws):
+            compiled = options.native and native.library() is not None
+            if compiled and smith_slab.takes(self.laws, space.comm.getSize()):
+                # Smith soil: the whole slab compiled, steps on A's bands
+                self.newton = self._smith_slab(solver, tolerances)
+            elif compiled and native.takes(self.laws.laws):
                 # the whole slab of the pairs in one compiled call
                 self.newton = native.PenaltySlab(self.laws, self.coupling.S_red,
                                                  self.coupling.R0, self.f, **tolerances)
@@ -76,11 +80,22 @@ class LawSolver:
                 kind = ManyLawNewton if len(self.laws.laws) > MANY else ReducedNewton
                 self.newton = kind(self.laws, self.coupling.S_red, **tolerances)
 
+    def _smith_slab(self, solver, tolerances):
+        """The compiled slab for laws with Smith nodes; the nodes' state
+        in a bank that finishes them; the work summed per energy term."""
+        slab = smith_slab.SmithSlab(native.library(), self.laws, solver, self.f, **tolerances)
+        self.laws.hand_over(slab.bank.laws, slab.bank)
+        self.key_groups = [(key, np.array([j for j, k in enumerate(self.keys) if k == key]))
+                           for key in dict.fromkeys(self.keys)]
+        return slab
+
     def solve(self, X, b, dt, slab_index):
         """Newton if a law acts for the law-free solution X (updated in
         place); returns the Newton iterations."""
         if isinstance(self.newton, native.PenaltySlab):
             return self._solve_compiled(X, slab_index)
+        if isinstance(self.newton, smith_slab.SmithSlab):
+            return self._solve_smith(dt, slab_index)
         laws = self.laws
         laws.start_slab(dt, (slab_index - 1) * dt)
         y0 = self.coupling.coordinates(X)
@@ -127,19 +142,35 @@ class LawSolver:
             self.work[key] += work
         return step.iterations
 
+    def _solve_smith(self, dt, slab_index):
+        """solve() through the compiled slab (:class:`SmithSlab`)."""
+        step = self.newton
+        if not step.run(self.acted, dt, (slab_index - 1) * dt, slab_index):
+            self.acted = False
+            return 0
+        self.f[:] = step.f
+        self.acted = True
+        for key, idx in self.key_groups:
+            self.work[key] += float(step.work[idx].sum())
+        return step.iterations
+
     def advance(self, X, b):
         """Close the slab: the laws' displacements, their terms carried over
         in the running sum b."""
         self.laws.u += self.coupling.increments(X)
-        if self.acted:
+        if not self.acted:
+            return
+        if isinstance(self.newton, smith_slab.SmithSlab):
+            self.newton.carry()
+        else:
             self.coupling.gather.add_rows(b, self.coupling.carry_rows @ self.f)
-            if self.heads:
-                self._transfer(X)
+        if self.heads:
+            self._transfer(X)
 
     def _transfer(self, X):
         """The slab's work of the marked laws on their node: the node
         feels -c f^a, so its work is -c (f1 v^1 + f2 v^2)."""
-        s = self.coupling.velocities(X)
+        s = self.coupling.node_velocities(X)
         for j, sign, i in self.heads:
             self.work["transferred"] += sign * (self.f[2 * j] * s[2 * i]
                                                 + self.f[2 * j + 1] * s[2 * i + 1])
@@ -148,6 +179,9 @@ class LawSolver:
         """The Newton in use, for the run header."""
         if self.newton is None:
             return ""
+        if isinstance(self.newton, smith_slab.SmithSlab):
+            return (f"; Newton: plain, compiled, on the laws' {self.laws.reduced} coordinates"
+                    " (steps on the slab matrix's bands)")
         if isinstance(self.newton, native.NativeNewton):
             return f"; Newton: plain, compiled, on the laws' {self.laws.reduced} coordinates"
         if isinstance(self.newton, ReducedNewton):      # ManyLawNewton too

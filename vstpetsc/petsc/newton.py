@@ -61,6 +61,7 @@ class Coupling:
         self.lawset = lawset
         self.gather = DofGather(template, lawset.dofs, nodes)
         k, P = lawset.size, lawset.P
+        self.V = V
         self.VE = np.kron(np.eye(k // 2), V)
         self.WE = np.kron(np.eye(k // 2), W)
         self.eye = np.eye(k)
@@ -91,7 +92,12 @@ class Coupling:
 
     def velocities(self, X):
         """(v^1, v^2) of the laws' nodes at iterate X (on every rank)."""
-        return self.VE @ self.gather(X)
+        return (self.gather(X).reshape(-1, 2) @ self.V.T).ravel()
+
+    def node_velocities(self, X):
+        """velocities() for X the solver's own solution (read in place on
+        one rank)."""
+        return (self.unknowns(X).reshape(-1, 2) @ self.V.T).ravel()
 
     def coordinates(self, X):
         """The reduced coordinates y at X (on every rank)."""

@@ -1,0 +1,135 @@
+"""The compiled slab for Smith soil (native/smith_slab.c) against the
+Python path (-vst_native 0, the checked reference): one node's integrals
+on random slabs (yield, unloading, the toe's gap opening, its damping
+factor turning), and whole runs: the bundled pile, a bearing-graph sweep,
+two soil tables with a penalty pair and a wall, a blow continued from a
+restart."""
+
+import io
+
+import numpy as np
+import pytest
+
+import vstpetsc
+from conftest import bar, make_case, solve
+from test_parallel import datasets
+from vstpetsc import native
+from vstpetsc import bundled
+from vstpetsc.laws.smith import smith_integrals
+from vstpetsc.native import smith_slab
+
+pytestmark = pytest.mark.skipif(native.library() is None, reason="kernels not built")
+
+
+def random_slab(rng, toe):
+    """A slab that may yield (inside or from its start), unload, turn, open
+    the toe's gap or turn its damping factor 1 + J v negative."""
+    dt, k, Ru = 0.1, 2.0, rng.uniform(0.05, 0.3)
+    q = Ru / k
+    J = float(rng.choice([0.0, rng.uniform(0.0, 2.0), rng.uniform(2.0, 8.0)]))
+    wn, (y1, y2) = rng.uniform(-0.2, 0.2), rng.uniform(-3.0, 3.0, 2)
+    e0 = rng.choice([rng.uniform(-q if not toe else -0.2, q), q, -q, 0.0])
+    return wn, wn - e0, y1, y2, dt, k, Ru, J, toe
+
+
+def test_one_node_equals_the_python_integrals(rng):
+    lib = native.library()
+    seen = set()
+    for c in range(4000):
+        args = random_slab(rng, bool(c % 2))
+        want = smith_integrals(*args)
+        got = smith_slab.node_integrals(lib, *args)
+        if want is None:
+            assert got is None
+            continue
+        wn, p = args[0], args[1]
+        seen.add(("toe" if args[8] else "shaft", want[6] != p))
+        scale = max(map(abs, want[:6]))
+        assert max(abs(a - b) for a, b in zip(got[:6], want[:6])) <= 1e-14 * scale
+        assert abs(got[6] - want[6]) <= 1e-15 * max(abs(want[6]), abs(wn), 1e-3)
+    # slips and elastic slabs, at the toe and on the shaft
+    assert seen == {("toe", True), ("toe", False), ("shaft", True), ("shaft", False)}
+
+
+def assert_equal_runs(a, b, rtol=1e-9):
+    """Every dataset within rtol of its largest value, the same Newton
+    iterations, the soil tables' set equal to rounding."""
+    da, db = datasets(a), datasets(b)
+    assert set(da) == set(db)
+    for key, x in da.items():
+        if key == "solver/wall_time":
+            continue
+        x, y = np.nan_to_num(x), np.nan_to_num(db[key])
+        if key.endswith("iterations"):
+            assert np.array_equal(x, y), key
+            continue
+        assert np.abs(x - y).max() <= rtol * (np.abs(x).max() or 1.0), key
+    tables = sum(1 for key in da if key.startswith("soil/") and key.endswith("/toe_slip"))
+    for k in range(tables):
+        sa, sb = a.group_attrs(f"soil/{k}")["set"], b.group_attrs(f"soil/{k}")["set"]
+        assert abs(sa - sb) <= 1e-12 * abs(sb), (sa, sb)
+
+
+def both(tmp_path, case, name):
+    """The run compiled and with -vst_native 0; the compiled one must name
+    its Newton."""
+    a = solve(tmp_path, case, f"{name}-c")
+    b = solve(tmp_path, case, f"{name}-p", options=["-vst_native", "0"])
+    assert "bands" in a.attrs["solver"] and "compiled" not in b.attrs["solver"]
+    return a, b
+
+
+def test_the_pile_example_equals_the_python_path(tmp_path):
+    case = vstpetsc.Case.from_toml(bundled.path("pile"))
+    a, b = both(tmp_path, case, "pile")
+    assert a.group_attrs("soil/0")["set"] > 0.005          # the blow drives the pile
+    assert_equal_runs(a, b)
+
+
+@pytest.mark.parametrize("capacity", [0.5e6, 3.0e6])
+def test_a_bearing_graph_sweep_equals_the_python_path(tmp_path, capacity):
+    """The bundled pile at the ends of its documented capacity sweep (a
+    large set, and a small one with the toe near refusal), cut at 20 ms."""
+    case = vstpetsc.Case.from_toml(bundled.path("pile"))
+    case = case.with_value("soil.0.capacity", capacity).with_value("time.end", 0.02)
+    assert_equal_runs(*both(tmp_path, case, f"cap{capacity:g}"))
+
+
+def two_tables_and_a_wall():
+    """A pile (left toe, moving left) on two soil tables, pushed by a bar
+    through a penalty pair, a wall beyond its toe (a Python law in the
+    compiled slab's callback)."""
+    return make_case(2e-5, 0.006, [bar("pile", (-5.0, 0.0), 30, area=0.01),
+                                   bar("ram", (0.001, 1.0), 6, area=0.04, v0=-5.0)],
+                     contacts=[dict(pair=["pile", "ram"]),
+                               dict(pair=["wall", "pile"], wall=-5.0004)],
+                     soil=[{"body": "pile", "capacity": 4e5, "toe_share": 0.4,
+                            "shaft": {"quake": 2e-3, "damping": 0.3, "from": -5.0,
+                                      "to": -2.0},
+                            "toe": {"quake": 2e-3, "damping": 0.5, "end": "left"}},
+                           {"body": "pile", "capacity": 2e5, "toe_share": 0.0,
+                            "shaft": {"quake": 1e-3, "damping": 0.1, "from": -2.0,
+                                      "to": 0.0}}])
+
+
+def test_two_tables_a_pair_and_a_wall_equal_the_python_path(tmp_path):
+    a, b = both(tmp_path, two_tables_and_a_wall(), "two")
+    assert a.contact(1).impulse.max() > 0                   # the toe reaches the wall
+    assert a.group_attrs("soil/1")["set"] == 0.0             # no toe in table 1
+    assert_equal_runs(a, b)
+    for k in (0, 1):
+        assert np.abs(a.series(f"soil/{k}")["energy"][-1]) > 0
+
+
+def test_a_restart_continues_the_compiled_blow_bit_for_bit(tmp_path):
+    case = vstpetsc.Case.from_toml(bundled.path("pile")).with_value("time.end", 0.02)
+    full = solve(tmp_path, case, "full")
+    part = str(tmp_path / "part.h5")
+    vstpetsc.run(case.with_value("time.end", 0.008), output=part, quiet=True,
+                 out=io.StringIO())
+    again = vstpetsc.run(case, output=part, restart=True, quiet=True, out=io.StringIO())
+    for key in ("toe_force", "shaft_force", "energy", "toe_slip"):
+        assert np.array_equal(again.series("soil/0")[key], full.series("soil/0")[key]), key
+    for key in ("soil/0/slip", "body/pile/u", "body/ram/v", "energy/soil"):
+        assert np.array_equal(again[key], full[key]), key
+    assert again.group_attrs("soil/0")["set"] == full.group_attrs("soil/0")["set"]

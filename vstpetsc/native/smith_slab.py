@@ -1,0 +1,211 @@
+"""A slab of laws with Smith soil nodes among them in compiled code
+(smith_slab.c), on one rank: the Newton of
+:class:`vstpetsc.reduced_newton.ReducedNewton` on the laws' coordinates,
+its products with S and its steps by the block Thomas algorithm on the slab
+matrix's bands instead of a dense S (docs/pile-driving.md).  The Smith
+nodes are evaluated in C; any other law (the cushion, a pair) through a
+callback to its ``force``.  ``-vst_native 0`` runs the Python path, the
+checked reference.
+"""
+
+import ctypes
+
+import numpy as np
+
+from vstpetsc.reduced_newton import not_converged
+
+_P = ctypes.c_void_p
+_OTHERS = ctypes.CFUNCTYPE(ctypes.c_int)
+
+
+class _Nodes(ctypes.Structure):
+    """The C struct SmithNodes of smith_slab.c, field for field."""
+
+    _fields_ = [("count", ctypes.c_int)] + [(name, _P) for name in (
+        "law", "uidx", "sign", "Ru", "k", "J", "toe", "wn", "p", "out", "hit", "table",
+        "impulse", "tally")]
+
+
+class _Slab(ctypes.Structure):
+    """The C struct SmithSlab of smith_slab.c, field for field."""
+
+    _fields_ = [("laws", ctypes.c_int), ("N", ctypes.c_long), ("max_it", ctypes.c_int),
+                ("rtol", ctypes.c_double), ("atol", ctypes.c_double), ("dt", ctypes.c_double)] + \
+        [(name, _P) for name in ("A", "Ainv", "ACp", "B", "Binv", "BCp", "g", "sol", "V", "W",
+                                 "lnode", "lsign", "X", "b", "CW", "u", "f_prev", "y0", "y",
+                                 "trial", "r",
+                                 "d", "sf", "f", "tan", "work")] + \
+        [("soil", _Nodes), ("others", _OTHERS), ("yeval", _P), ("acted", ctypes.c_int),
+         ("ran", ctypes.c_int), ("iterations", ctypes.c_int), ("norm", ctypes.c_double)]
+
+
+def banded(lawset):
+    """Whether every law's nodes are neighbours (A + the tangents keep A's
+    block bands): a pair between two bodies numbered one after the other."""
+    return all(law.nodes.size == 1 or abs(int(law.nodes[1]) - int(law.nodes[0])) == 1
+               for law in lawset.laws)
+
+
+class SmithSlab:
+    """The slab's laws in one compiled Newton; after :meth:`run` the
+    LawSet's ``f``, ``work`` and the Smith nodes' outputs are the slab's."""
+
+    def __init__(self, lib, lawset, solver, f_prev, rtol=1e-12, atol=1e-50, max_it=30):
+        for name in ("vst_smith_start", "vst_smith_solve"):
+            getattr(lib, name).argtypes = [_P]
+            getattr(lib, name).restype = ctypes.c_int
+        lib.vst_smith_carry.argtypes = [_P]
+        lib.vst_smith_finish.argtypes = [_P, ctypes.c_int]
+        lib.vst_smith_carry.restype = lib.vst_smith_finish.restype = None
+        self.bank = soil = SmithBank(lawset)
+        lib.vst_smith_factor_a.argtypes = [_P, ctypes.c_long, _P, _P]
+        lib.vst_smith_factor_a.restype = None
+        self.lib, self.lawset, self.laws = lib, lawset, lawset.laws
+        self.soil, self.max_it = soil, max_it
+        L = len(self.laws)
+        A = np.ascontiguousarray(solver.matrix_blocks())
+        N = A.shape[0]
+        arrays = {"A": A, "V": np.ascontiguousarray(solver.V), "W": np.ascontiguousarray(solver.W),
+                  "lnode": np.full(2 * L, -1, dtype=np.int64), "lsign": np.zeros(2 * L),
+                  "X": solver.x, "b": solver.br,
+                  "CW": np.ascontiguousarray(solver.carry @ solver.W), "u": lawset.u, "f_prev": f_prev, "f": lawset.f,
+                  "tan": np.zeros(4 * L), "work": np.zeros(L), "yeval": np.zeros(2 * L)}
+        for name in ("Ainv", "ACp", "Binv", "BCp"):
+            arrays[name] = np.zeros(4 * N)
+        arrays["B"] = np.zeros_like(A)
+        for name in ("g", "sol"):
+            arrays[name] = np.zeros(2 * N)
+        for name in ("y0", "y", "trial", "r", "d", "sf"):
+            arrays[name] = np.zeros(2 * L)
+        for j, law in enumerate(self.laws):
+            arrays["lnode"][2 * j:2 * j + law.nodes.size] = law.nodes
+            arrays["lsign"][2 * j:2 * j + law.nodes.size] = law.signs
+        lib.vst_smith_factor_a(A.ctypes.data, N, arrays["Ainv"].ctypes.data,
+                               arrays["ACp"].ctypes.data)
+        self.a = arrays
+        self.others = [j for j, law in enumerate(self.laws) if law not in soil.laws]
+        self.other_laws = [(j, self.laws[j]) for j in self.others]
+        self.callback = _OTHERS(self._evaluate_others) if self.others else _OTHERS()
+        self.ctx = _Slab(L, N, max_it, rtol, atol, self.laws[0].dt,
+                         *(arrays[name[0]].ctypes.data for name in _Slab._fields_[6:32]),
+                         soil.struct(), self.callback, arrays["yeval"].ctypes.data, 0, 0, 0,
+                         0.0)
+        self.ref = ctypes.addressof(self.ctx)
+        soil.finish = lambda tables: lib.vst_smith_finish(self.ref, tables)
+        self.f, self.work, self.y = lawset.f, arrays["work"], arrays["y"]
+        self.iterations = 0
+
+    def _evaluate_others(self):
+        """The other laws at ``yeval`` into f and tan (the callback)."""
+        y, f, tan = self.a["yeval"], self.a["f"], self.a["tan"]
+        any_acts = 0
+        for j, law in self.other_laws:
+            out = law.force(float(y[2 * j]), float(y[2 * j + 1]))
+            if out is None:
+                f[2 * j] = f[2 * j + 1] = 0.0
+                tan[4 * j:4 * j + 4] = 0.0
+            else:
+                f[2 * j], f[2 * j + 1] = out[0], out[1]
+                tan[4 * j:4 * j + 4] = out[2:6]
+                any_acts = 1
+        return any_acts
+
+    def run(self, acted, dt, t0, slab_index):
+        """The slab from the law-free solution (the solver's array, updated
+        in place) and the terms ``f_prev`` of the previous slab: whether a
+        law acts."""
+        self.soil.sync()
+        ran = self.lib.vst_smith_start(self.ref)
+        if self.others:
+            y0 = self.a["y0"].tolist()
+            for j in self.others:
+                law = self.laws[j]
+                law.start_slab(self.lawset.u[self.lawset.node_index[j]], dt)
+                law.start_time(t0)
+            if not ran:
+                ran = any(self.laws[j].acts(y0[2 * j], y0[2 * j + 1]) for j in self.others)
+            if not ran and acted:         # their last evaluation: nothing in this slab
+                self.a["yeval"][:] = self.a["y0"]
+                self._evaluate_others()
+        self.ctx.ran, self.ctx.acted = int(bool(ran)), int(acted)
+        code = self.lib.vst_smith_solve(self.ref)
+        if code != 0:
+            raise not_converged(slab_index, self.max_it, self.ctx.norm)
+        self.iterations = self.ctx.iterations
+        return bool(ran)
+
+    def carry(self):
+        """The slab's terms into the running right-hand side (an acting slab)."""
+        self.lib.vst_smith_carry(self.ref)
+
+
+class SmithBank:
+    """The Smith nodes' state as arrays for the compiled slab, which starts
+    and finishes them (their ``start_slab`` and ``finish_slab``); the slips
+    and impulses go back to the laws when their tables' reports read them."""
+
+    def __init__(self, lawset):
+        from vstpetsc.laws.soil import SoilNode
+
+        js = [j for j, law in enumerate(lawset.laws) if type(law) is SoilNode]
+        self.laws = laws = [lawset.laws[j] for j in js]
+        reports = list({id(law.report): law.report for law in laws}.values())
+        self.tallies = [report.tally for report in reports]
+        n = len(laws)
+        self.a = {"law": np.array(js, dtype=np.intc),
+                  "uidx": np.array([int(lawset.node_index[j][0]) for j in js], dtype=np.int64),
+                  "sign": np.array([law.signs[0] for law in laws], dtype=float),
+                  "Ru": np.array([law.Ru for law in laws]), "k": np.array([law.k for law in laws]),
+                  "J": np.array([law.J for law in laws]),
+                  "toe": np.array([law.toe for law in laws], dtype=np.intc),
+                  "wn": np.zeros(n), "p": np.zeros(n), "out": np.zeros(7 * n),
+                  "hit": np.zeros(n, dtype=np.intc),
+                  "table": np.array([reports.index(law.report) for law in laws], dtype=np.intc),
+                  "impulse": np.zeros(n), "tally": np.zeros(len(reports))}
+        for report in reports:
+            report.before_read = self.write_back
+        self.finish = None              # the compiled finish (set by SmithSlab)
+        self.synced = False
+
+    def struct(self):
+        a = self.a
+        return _Nodes(len(self.laws), *(a[name[0]].ctypes.data for name in _Nodes._fields_[1:]))
+
+    def sync(self):
+        """The slips from the laws, once (after a restart has set them)."""
+        if not self.synced:
+            self.a["p"][:] = [law.p for law in self.laws]
+            self.synced = True
+
+    def finish_slab(self, t0, dt):
+        """SoilNode.finish_slab for every node at once (compiled)."""
+        self.finish(len(self.tallies))
+        for tally, add in zip(self.tallies, self.a["tally"].tolist()):
+            tally[0] += add
+
+    def write_back(self):
+        """The slips and impulses into the laws (before a report reads them)."""
+        if self.synced:
+            for law, p, i in zip(self.laws, self.a["p"].tolist(), self.a["impulse"].tolist()):
+                law.p, law.impulse = p, i
+
+
+def takes(lawset, comm_size):
+    """Whether the compiled slab runs these laws: Smith nodes among them,
+    one rank, A + the tangents within A's bands, no law whose work splits
+    into several energy terms (friction)."""
+    from vstpetsc.laws.soil import SoilNode
+
+    return (comm_size == 1 and any(type(law) is SoilNode for law in lawset.laws)
+            and banded(lawset)
+            and not any(getattr(law, "work_terms", None) for law in lawset.laws))
+
+
+def node_integrals(lib, wn, p, y1, y2, dt, k, Ru, J, toe):
+    """The compiled :func:`vstpetsc.laws.smith.smith_integrals` of one node
+    (for tests): its 7 outputs, or None."""
+    lib.vst_smith_node.argtypes = [_P, _P]
+    lib.vst_smith_node.restype = ctypes.c_int
+    args = np.array([wn, p, y1, y2, dt, k, Ru, J, float(toe)])
+    out = np.zeros(7)
+    return tuple(out.tolist()) if lib.vst_smith_node(args.ctypes.data, out.ctypes.data) else None
