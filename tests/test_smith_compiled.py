@@ -51,6 +51,31 @@ def test_one_node_equals_the_python_integrals(rng):
     assert seen == {("toe", True), ("toe", False), ("shaft", True), ("shaft", False)}
 
 
+def test_one_cushion_equals_the_python_integrals(rng):
+    """Loading from the start or inside, unloading on the slab's earlier or
+    later M, letting go, with the spans where it pushes."""
+    from vstpetsc.laws.cushion import cushion_integrals
+
+    lib = native.library()
+    kinds = set()
+    for c in range(4000):
+        dt, k = 0.1, 2.0
+        ku = k / rng.uniform(0.3, 1.0) ** 2
+        gn, (d1, d2) = rng.uniform(-0.1, 0.05), rng.uniform(-2.0, 2.0, 2)
+        M = float(rng.choice([0.0, rng.uniform(0.0, 0.15)]))
+        want = cushion_integrals(gn, d1, d2, dt, k, ku, M)
+        got = smith_slab.cushion_integrals(lib, gn, d1, d2, dt, k, ku, M)
+        if want is None:
+            assert got is None
+            continue
+        kinds.add((len(want[7]), want[6] > max(M, -gn)))
+        scale = max(map(abs, want[:6]))
+        assert max(abs(a - b) for a, b in zip(got[:6], want[:6])) <= 1e-14 * scale
+        assert got[6] == want[6] and got[7] == list(want[7])
+    # one and two pieces pushing; loading inside the slab raising M, and not
+    assert {(1, True), (1, False), (2, False)} <= kinds
+
+
 def assert_equal_runs(a, b, rtol=1e-9):
     """Every dataset within rtol of its largest value, the same Newton
     iterations, the soil tables' set equal to rounding."""

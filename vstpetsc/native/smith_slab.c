@@ -17,9 +17,10 @@
  * and its LU is the block Thomas algorithm: O(nodes) a step where the
  * dense Newton costs O(laws^3).
  *
- * The Smith nodes' integrals are vstpetsc.laws.smith.smith_integrals, the
- * same pieces and Gauss points; other laws (a cushion, a pair) are
- * evaluated by a callback into Python. */
+ * The Smith nodes' integrals are vstpetsc.laws.smith.smith_integrals and
+ * the cushions' vstpetsc.laws.cushion.cushion_integrals, the same pieces
+ * and Gauss points; other laws (a penalty pair) are evaluated by a
+ * callback into Python. */
 
 #include <math.h>
 #include <string.h>
@@ -41,6 +42,19 @@ typedef struct {
     double *tally;             /* out (finish): per table, the work its nodes took */
 } SmithNodes;
 
+#define SPANS 8                /* a cushion's pieces in a slab (at most 7) */
+
+typedef struct {
+    int count;                 /* cushion pairs */
+    const int *law;            /* each one's law number j */
+    const long *uidx;          /* (count, 2): its nodes among the LawSet's nodes, -1: none */
+    const double *g0, *k, *ku;
+    double *gn, *M;            /* at the slab start (M: in from the law, reset when apart) */
+    double *out;               /* (count, 7): f1 f2 t11 t12 t21 t22 M at the end */
+    double *spans;             /* (count, SPANS, 2): where it pushes */
+    int *nspans, *hit;
+} Cushions;
+
 typedef struct {
     int laws;                  /* L: 2L coordinates */
     long N;                    /* nodes of the slab matrix */
@@ -61,6 +75,7 @@ typedef struct {
     double *f, *tan;           /* (2L), (L, 4): terms and tangents of the evaluation */
     double *work;              /* (L): f . y of the converged slab */
     SmithNodes soil;
+    Cushions cushions;
     int (*others)(void);       /* the other laws at yeval into f, tan; 1 if any acts */
     double *yeval;             /* (2L): where the callback evaluates */
     int acted;                 /* in: whether the laws acted in the previous slab */
@@ -202,6 +217,115 @@ static int smith_integrals(double wn, double p, const Node *n, double *out)
     return 0;
 }
 
+/* ---- a cushion's integrals (laws/cushion.py, operation for operation) ---- */
+
+static const double GX[3] = {0.5 - 0.5 * 0.7745966692414834, 0.5, 0.5 + 0.5 * 0.7745966692414834};
+static const double GW[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+
+/* the piece [p, q] with F = stiffness (delta - shift); ``factor`` and dM
+ * when the shift is factor M with M reached inside the slab (dM NULL: not) */
+static void cushion_add(double *out, const double *c, double p, double q, double dt,
+                        double stiffness, double shift, double factor, const double *dM)
+{
+    double length = q - p;
+    for (int i = 0; i < 3; i++) {
+        double t = p + length * GX[i];
+        double w = dt * length * GW[i];
+        double F = stiffness * (c[0] + t * (c[1] + t * c[2]) - shift);
+        double half = 0.5 * t * t;
+        double g1 = stiffness * dt * (t - half), g2 = stiffness * dt * half;
+        if (dM) {
+            g1 -= stiffness * factor * dM[0];
+            g2 -= stiffness * factor * dM[1];
+        }
+        double T[2] = {1.0 - t, t};
+        for (int a = 0; a < 2; a++) {
+            out[a] += w * F * T[a];
+            out[2 + 2 * a] += w * g1 * T[a];
+            out[3 + 2 * a] += w * g2 * T[a];
+        }
+    }
+}
+
+/* the loading interval [*t1, *t2] where delta rises above M; 0 when none */
+static int cushion_loading(const double *c, double M, double *t1, double *t2)
+{
+    double top = 1.0, ups[2];
+    if (c[2] < 0.0) {
+        double vertex = -c[1] / (2.0 * c[2]);
+        if (0.0 < vertex && vertex < 1.0)
+            top = vertex;
+    }
+    if (c[0] + top * (c[1] + top * c[2]) <= M)
+        return 0;
+    double start = 0.0;
+    if (!(c[0] >= M && c[1] >= 0.0)) {
+        int n = roots01(c[0] - M, c[1], c[2], ups), m = 0;
+        for (int i = 0; i < n; i++)
+            if (ups[i] < top)
+                ups[m++] = ups[i];
+        start = m ? ups[m - 1] : 0.0;
+    }
+    *t1 = start, *t2 = top;
+    return 1;
+}
+
+/* out[7] (forces, tangents, M at the end) and the spans where it pushes;
+ * 0 when it exerts nothing */
+static int cushion_integrals(double gn, double d1, double d2, double dt, double k, double ku,
+                             double M, double *out, double *spans, int *nspans)
+{
+    double c[3] = {-gn, -(-dt * d1), -(0.5 * dt * (d1 - d2))};
+    M = c[0] > M ? c[0] : M;                       /* Python's max(M, c0) */
+    double zero = M * (1.0 - k / ku);
+    *nspans = 0;
+    for (int i = 0; i < 6; i++)
+        out[i] = 0.0;
+    if (!closed_somewhere(gn + zero, -dt * d1, 0.5 * dt * (d1 - d2)))
+        return 0;
+    double t1 = 0.0, t2 = 0.0, M2 = M, dM2[2] = {0.0, 0.0};
+    int loads = cushion_loading(c, M, &t1, &t2);
+    if (loads) {
+        M2 = c[0] + t2 * (c[1] + t2 * c[2]);
+        double half = 0.5 * t2 * t2;
+        dM2[0] = dt * (t2 - half), dM2[1] = dt * half;
+    }
+    /* the pieces: before (M), load, after (M2) */
+    double pieces[3][2] = {{0.0, loads ? t1 : 1.0}, {t1, t2}, {t2, 1.0}};
+    for (int piece = 0; piece < (loads ? 3 : 1); piece++) {
+        double p = pieces[piece][0], q = pieces[piece][1];
+        if (!(q > p))
+            continue;
+        if (piece == 1) {
+            cushion_add(out, c, p, q, dt, k, 0.0, 0.0, NULL);
+            spans[2 * *nspans] = p, spans[2 * *nspans + 1] = q, (*nspans)++;
+            continue;
+        }
+        double m = piece == 0 ? M : M2, shift = m * (1.0 - k / ku), w = q - p, r[2];
+        double edges[4];
+        int ne = 0;
+        edges[ne++] = p;
+        int nr = roots01(c[0] - shift + p * (c[1] + p * c[2]), w * (c[1] + 2.0 * p * c[2]),
+                         w * w * c[2], r);
+        for (int i = 0; i < nr; i++)
+            edges[ne++] = p + w * r[i];
+        edges[ne++] = q;
+        for (int e = 0; e < ne - 1; e++) {
+            double s0 = edges[e], s1 = edges[e + 1], mid = 0.5 * (s0 + s1);
+            if (c[0] + mid * (c[1] + mid * c[2]) > shift) {
+                cushion_add(out, c, s0, s1, dt, ku, shift, 1.0 - k / ku,
+                            piece == 0 ? NULL : dM2);
+                spans[2 * *nspans] = s0, spans[2 * *nspans + 1] = s1, (*nspans)++;
+            }
+        }
+    }
+    out[6] = M2 > M ? M2 : M;
+    for (int i = 0; i < 6; i++)
+        if (out[i] != 0.0)
+            return 1;
+    return 0;
+}
+
 /* ---- the slab ---- */
 
 /* whether Smith node i acts for the coordinates y (SoilNode.acts) */
@@ -233,7 +357,37 @@ static int evaluate(SmithSlab *c, const double *y)
         memcpy(c->tan + 4 * j, o + 2, 4 * sizeof(double));
         any |= s->hit[i];
     }
+    Cushions *cu = &c->cushions;
+    for (int i = 0; i < cu->count; i++) {
+        int j = cu->law[i];
+        double *o = cu->out + 7 * i;
+        cu->hit[i] = cushion_integrals(cu->gn[i], y[2 * j], y[2 * j + 1], c->dt, cu->k[i],
+                                       cu->ku[i], cu->M[i], o, cu->spans + 2 * SPANS * i,
+                                       cu->nspans + i);
+        c->f[2 * j] = o[0], c->f[2 * j + 1] = o[1];
+        memcpy(c->tan + 4 * j, o + 2, 4 * sizeof(double));
+        any |= cu->hit[i];
+    }
     return any;
+}
+
+/* Cushion.start_slab and Cushion.acts at y0 for cushion i */
+static int cushion_start(SmithSlab *c, int i)
+{
+    Cushions *cu = &c->cushions;
+    double moved = 0.0;
+    for (int a = 0; a < 2; a++) {
+        long n = cu->uidx[2 * i + a];
+        if (n >= 0)
+            moved += c->lsign[2 * cu->law[i] + a] * c->u[n];
+    }
+    cu->gn[i] = cu->g0[i] - moved;
+    if (cu->gn[i] > 0.0)       /* the ends are apart: the next contact starts fresh */
+        cu->M[i] = 0.0;
+    int j = cu->law[i];
+    double d1 = c->y0[2 * j], d2 = c->y0[2 * j + 1];
+    double zero = cu->M[i] * (1.0 - cu->k[i] / cu->ku[i]);
+    return closed_somewhere(cu->gn[i] + zero, -c->dt * d1, 0.5 * c->dt * (d1 - d2));
 }
 
 /* g = C v: each law's terms v_j (2 a law) on its nodes' rows, sign W v_j */
@@ -372,6 +526,8 @@ int vst_smith_start(SmithSlab *c)
     for (int i = 0; i < s->count; i++)              /* SoilNode.start_slab */
         s->wn[i] = s->sign[i] * c->u[s->uidx[i]];
     coordinates(c, c->X, c->y0);
+    for (int i = 0; i < c->cushions.count; i++)
+        any |= cushion_start(c, i);
     for (int i = 0; i < s->count && !any; i++)
         any = soil_acts(c, i, c->y0);
     return any;
@@ -387,6 +543,8 @@ int vst_smith_solve(SmithSlab *c)
     if (!c->ran) {            /* the laws give nothing (LawSet.evaluate at y0) */
         for (int i = 0; i < s->count; i++)
             s->hit[i] = 0;
+        for (int i = 0; i < c->cushions.count; i++)
+            c->cushions.hit[i] = 0;
         memset(c->f, 0, n * sizeof(double));
         return 0;
     }
@@ -449,6 +607,14 @@ void vst_smith_finish(SmithSlab *c, int tables)
 void vst_smith_factor_a(const double *A, long N, double *Ainv, double *ACp)
 {
     bands_factor(N, A, Ainv, ACp);
+}
+
+/* One cushion's integrals (tests): in = (gn, d1, d2, dt, k, ku, M), out[7]
+ * and spans[2 SPANS], their count in *nspans */
+int vst_cushion_integrals(const double *in, double *out, double *spans, int *nspans)
+{
+    return cushion_integrals(in[0], in[1], in[2], in[3], in[4], in[5], in[6], out, spans,
+                             nspans);
 }
 
 /* One node's integrals (tests): in = (wn, p, y1, y2, dt, k, Ru, J, toe),

@@ -26,6 +26,16 @@ class _Nodes(ctypes.Structure):
         "impulse", "tally")]
 
 
+class _Cushions(ctypes.Structure):
+    """The C struct Cushions of smith_slab.c, field for field."""
+
+    _fields_ = [("count", ctypes.c_int)] + [(name, _P) for name in (
+        "law", "uidx", "g0", "k", "ku", "gn", "M", "out", "spans", "nspans", "hit")]
+
+
+SPANS = 8                       # smith_slab.c's SPANS
+
+
 class _Slab(ctypes.Structure):
     """The C struct SmithSlab of smith_slab.c, field for field."""
 
@@ -35,7 +45,7 @@ class _Slab(ctypes.Structure):
                                  "lnode", "lsign", "X", "b", "CW", "u", "f_prev", "y0", "y",
                                  "trial", "r",
                                  "d", "sf", "f", "tan", "work")] + \
-        [("soil", _Nodes), ("others", _OTHERS), ("yeval", _P), ("acted", ctypes.c_int),
+        [("soil", _Nodes), ("cushions", _Cushions), ("others", _OTHERS), ("yeval", _P), ("acted", ctypes.c_int),
          ("ran", ctypes.c_int), ("iterations", ctypes.c_int), ("norm", ctypes.c_double)]
 
 
@@ -83,12 +93,14 @@ class SmithSlab:
         lib.vst_smith_factor_a(A.ctypes.data, N, arrays["Ainv"].ctypes.data,
                                arrays["ACp"].ctypes.data)
         self.a = arrays
-        self.others = [j for j, law in enumerate(self.laws) if law not in soil.laws]
+        self.cushions = CushionBank(lawset)
+        compiled = {id(law) for law in soil.laws + self.cushions.laws}
+        self.others = [j for j, law in enumerate(self.laws) if id(law) not in compiled]
         self.other_laws = [(j, self.laws[j]) for j in self.others]
         self.callback = _OTHERS(self._evaluate_others) if self.others else _OTHERS()
         self.ctx = _Slab(L, N, max_it, rtol, atol, self.laws[0].dt,
                          *(arrays[name[0]].ctypes.data for name in _Slab._fields_[6:32]),
-                         soil.struct(), self.callback, arrays["yeval"].ctypes.data, 0, 0, 0,
+                         soil.struct(), self.cushions.struct(), self.callback, arrays["yeval"].ctypes.data, 0, 0, 0,
                          0.0)
         self.ref = ctypes.addressof(self.ctx)
         soil.finish = lambda tables: lib.vst_smith_finish(self.ref, tables)
@@ -115,6 +127,7 @@ class SmithSlab:
         in place) and the terms ``f_prev`` of the previous slab: whether a
         law acts."""
         self.soil.sync()
+        self.cushions.before()
         ran = self.lib.vst_smith_start(self.ref)
         if self.others:
             y0 = self.a["y0"].tolist()
@@ -129,6 +142,7 @@ class SmithSlab:
                 self._evaluate_others()
         self.ctx.ran, self.ctx.acted = int(bool(ran)), int(acted)
         code = self.lib.vst_smith_solve(self.ref)
+        self.cushions.after()
         if code != 0:
             raise not_converged(slab_index, self.max_it, self.ctx.norm)
         self.iterations = self.ctx.iterations
@@ -190,6 +204,51 @@ class SmithBank:
                 law.p, law.impulse = p, i
 
 
+class CushionBank:
+    """The cushions' state as arrays for the compiled slab: their M in
+    before a slab; their gap, M and last integrals out after it (their own
+    ``finish_slab`` then runs)."""
+
+    def __init__(self, lawset):
+        from vstpetsc.laws.cushion import Cushion
+
+        js = [j for j, law in enumerate(lawset.laws) if type(law) is Cushion]
+        self.laws = laws = [lawset.laws[j] for j in js]
+        n = len(laws)
+        uidx = np.full((n, 2), -1, dtype=np.int64)
+        for i, j in enumerate(js):
+            idx = lawset.node_index[j]
+            uidx[i, :idx.size] = idx
+        self.a = {"law": np.array(js, dtype=np.intc), "uidx": uidx,
+                  "g0": np.array([law.g0 for law in laws], dtype=float),
+                  "k": np.array([law.k for law in laws], dtype=float),
+                  "ku": np.array([law.ku for law in laws], dtype=float),
+                  "gn": np.zeros(n), "M": np.zeros(n), "out": np.zeros(7 * n),
+                  "spans": np.zeros(2 * SPANS * n), "nspans": np.zeros(n, dtype=np.intc),
+                  "hit": np.zeros(n, dtype=np.intc)}
+
+    def struct(self):
+        a = self.a
+        return _Cushions(len(self.laws), *(a[name[0]].ctypes.data
+                                           for name in _Cushions._fields_[1:]))
+
+    def before(self):
+        if self.laws:
+            self.a["M"][:] = [law.M for law in self.laws]
+
+    def after(self):
+        """What Cushion.start_slab and force leave on the laws."""
+        a = self.a
+        out, spans = a["out"].reshape(-1, 7), a["spans"].reshape(-1, SPANS, 2)
+        for i, law in enumerate(self.laws):
+            law.gn, law.M = float(a["gn"][i]), float(a["M"][i])
+            if not a["hit"][i]:
+                law.last = None
+                continue
+            pieces = [tuple(p) for p in spans[i, :a["nspans"][i]].tolist()]
+            law.last = (*out[i].tolist(), pieces)
+
+
 def takes(lawset, comm_size):
     """Whether the compiled slab runs these laws: Smith nodes among them,
     one rank, A + the tangents within A's bands, no law whose work splits
@@ -209,3 +268,16 @@ def node_integrals(lib, wn, p, y1, y2, dt, k, Ru, J, toe):
     args = np.array([wn, p, y1, y2, dt, k, Ru, J, float(toe)])
     out = np.zeros(7)
     return tuple(out.tolist()) if lib.vst_smith_node(args.ctypes.data, out.ctypes.data) else None
+
+
+def cushion_integrals(lib, gn, d1, d2, dt, k, ku, M):
+    """The compiled :func:`vstpetsc.laws.cushion.cushion_integrals` (for
+    tests): (7 outputs, the spans), or None."""
+    lib.vst_cushion_integrals.argtypes = [_P, _P, _P, _P]
+    lib.vst_cushion_integrals.restype = ctypes.c_int
+    args = np.array([gn, d1, d2, dt, k, ku, M])
+    out, spans, count = np.zeros(7), np.zeros(2 * SPANS), np.zeros(1, dtype=np.intc)
+    if not lib.vst_cushion_integrals(args.ctypes.data, out.ctypes.data, spans.ctypes.data,
+                                     count.ctypes.data):
+        return None
+    return (*out.tolist(), [tuple(p) for p in spans.reshape(-1, 2)[:count[0]].tolist()])
