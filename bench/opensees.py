@@ -42,8 +42,6 @@ import time
 
 import numpy as np
 
-import readme
-
 HERE = os.path.dirname(os.path.abspath(__file__))
 E, RHO, AREA, LENGTH = 2.0e11, 7850.0, 1.0, 1.0
 C = math.sqrt(E / RHO)
@@ -552,6 +550,19 @@ def table_row(name, row, runs):
             f"{1e3 * row['time_median']:.1f} |")
 
 
+def write_readme(path, text):
+    """Replace (or append) the section in README.md, leaving the rest."""
+    old = open(path).read() if os.path.exists(path) else ""
+    start = old.find(SECTION)
+    if start < 0:
+        new = old.rstrip("\n") + "\n\n" + text
+    else:
+        rest = old.find("\n## ", start + len(SECTION))
+        new = old[:start] + text + ("" if rest < 0 else "\n" + old[rest + 1:])
+    with open(path, "w") as f:
+        f.write(new)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
@@ -571,7 +582,7 @@ def main(argv=None):
         os.makedirs(args.out, exist_ok=True)
         with open(json_path, "w") as f:
             json.dump(res, f, indent=1)
-    readme.write_section(os.path.join(args.out, "README.md"), SECTION, section(res))
+    write_readme(os.path.join(args.out, "README.md"), section(res))
     print(f"wrote {json_path} and the section {SECTION!r} of README.md")
     return 0
 

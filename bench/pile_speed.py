@@ -154,7 +154,7 @@ def main(argv=None):
     with open(os.path.join(args.out, "pile_speed.json"), "w") as f:
         json.dump(res, f, indent=1)
     text = section(res)
-    readme.write_section(os.path.join(args.out, "README.md"), SECTION, text)
+    readme.write_readme(os.path.join(args.out, "README.md"), text)
     print(text)
 
 

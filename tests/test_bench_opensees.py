@@ -14,7 +14,6 @@ from conftest import ROOT
 
 sys.path.insert(0, os.path.join(ROOT, "bench"))
 import opensees as bench  # noqa: E402
-import readme  # noqa: E402
 
 
 def test_tip_of_the_standing_wave_follows_its_period():
@@ -101,9 +100,9 @@ def test_cheapest_is_the_least_work_that_meets_the_target():
 def test_readme_section_is_replaced_and_the_rest_kept(tmp_path):
     path = tmp_path / "README.md"
     path.write_text("# Benchmarks\n\n## A\n\na\n")
-    readme.write_section(str(path), bench.SECTION, bench.SECTION + "\n\nold\n")
+    bench.write_readme(str(path), bench.SECTION + "\n\nold\n")
     path.write_text(path.read_text() + "\n## B\n\nb\n")
-    readme.write_section(str(path), bench.SECTION, bench.SECTION + "\n\nnew\n")
+    bench.write_readme(str(path), bench.SECTION + "\n\nnew\n")
     assert path.read_text() == ("# Benchmarks\n\n## A\n\na\n\n" + bench.SECTION
                                 + "\n\nnew\n\n## B\n\nb\n")
 

@@ -69,11 +69,18 @@ typedef struct {
     double *X;                 /* in: the law-free solution; out: the slab's (2N) */
     double *b;                 /* the running right-hand side (2N) */
     const double *CW;          /* 2 x 2: the carry of the laws' rows into b */
-    const double *u;           /* the LawSet's node displacements at t^n */
+    double *u;                 /* the LawSet's node displacements at t^n */
     const double *f_prev;      /* the laws' terms of the previous slab */
     double *y0, *y, *trial, *r, *d, *sf;   /* (2L) */
     double *f, *tan;           /* (2L), (L, 4): terms and tangents of the evaluation */
     double *work;              /* (L): f . y of the converged slab */
+    const int *key;            /* (L): each law's energy term */
+    double *key_work;          /* out: the slab's work per energy term */
+    int nkeys, nu, nheads;
+    const long *unode;         /* (nu): the LawSet's nodes, global numbers */
+    const int *head_law;       /* (nheads): laws whose work on one node is reported */
+    const long *head_node;     /* its global node */
+    const double *head_sign;
     SmithNodes soil;
     Cushions cushions;
     int (*others)(void);       /* the other laws at yeval into f, tan; 1 if any acts */
@@ -179,6 +186,20 @@ static void elastic(double *out, const double *b, double p, const double *dp, do
         pieces(out, b, p, dp, 0.0, cuts[i], cuts[i + 1], n);
 }
 
+/* Whether the slab is one smooth elastic piece (SoilNode.force_batch's
+ * test): w monotone, w - p of one sign and inside the quake at both ends,
+ * the toe pressing with a positive damping factor throughout.  Then the
+ * general path below would find no cut: the same Gauss sums without its
+ * root solves. */
+static int smooth(const double *b, double p, double q, const Node *n)
+{
+    double e0 = b[0] - p, e1 = b[0] - p + b[1] + b[2], lim = q * (1.0 - 1e-12);
+    if (b[1] * (b[1] + 2.0 * b[2]) < 0.0 || !(e0 * e1 > 0.0) || !(fabs(e0) < lim)
+        || !(fabs(e1) < lim))
+        return 0;
+    return !n->toe || (e0 > 0.0 && 1.0 + n->J * n->y1 > 0.0 && 1.0 + n->J * n->y2 > 0.0);
+}
+
 /* out[7] = (f1, f2, df1/dy1, df1/dy2, df2/dy1, df2/dy2, slip at the end);
  * 0 when the node exerts nothing */
 static int smith_integrals(double wn, double p, const Node *n, double *out)
@@ -188,6 +209,11 @@ static int smith_integrals(double wn, double p, const Node *n, double *out)
     int ne = 2;
     for (int i = 0; i < 6; i++)
         out[i] = 0.0;
+    if (smooth(b, p, q, n)) {
+        gauss(out, b, p, dp, 0.0, 0.0, 1.0, n);
+        out[6] = p;
+        return 1;
+    }
     if (b[2] != 0.0 && 0.0 < -b[1] / (2.0 * b[2]) && -b[1] / (2.0 * b[2]) < 1.0)
         edges[1] = -b[1] / (2.0 * b[2]), ne = 3;
     for (int e = 0; e < ne - 1; e++) {
@@ -556,8 +582,12 @@ int vst_smith_solve(SmithSlab *c)
         memcpy(c->y, c->y0, n * sizeof(double));
     }
     int code = newton(c, c->acted);
-    for (int j = 0; j < c->laws; j++)
+    for (int k = 0; k < c->nkeys; k++)
+        c->key_work[k] = 0.0;
+    for (int j = 0; j < c->laws; j++) {
         c->work[j] = c->f[2 * j] * c->y[2 * j] + c->f[2 * j + 1] * c->y[2 * j + 1];
+        c->key_work[c->key[j]] += c->work[j];
+    }
     /* the laws' terms into the solution: X -= A^{-1} C f */
     scatter(c, c->f, c->g);
     bands_solve(c->N, c->A, c->Ainv, c->ACp, c->g, c->sol);
@@ -566,9 +596,30 @@ int vst_smith_solve(SmithSlab *c)
     return code;
 }
 
-/* The laws' terms of an acting slab carried into the running sum b
- * (LawSolver.advance: b += carry W P f on the laws' rows). */
-void vst_smith_carry(SmithSlab *c)
+static void carry(SmithSlab *c);
+
+/* LawSolver.advance: the laws' nodes' displacements (u += z_2); after an
+ * acting slab its terms carried into the running sum b (b += carry W P f
+ * on the laws' rows) and the marked laws' work on their node, -sign (f1 v^1
+ * + f2 v^2), returned. */
+double vst_smith_advance(SmithSlab *c, int acted)
+{
+    double transferred = 0.0;
+    for (int i = 0; i < c->nu; i++)
+        c->u[i] += c->X[2 * c->unode[i] + 1];
+    if (!acted)
+        return 0.0;
+    carry(c);
+    for (int h = 0; h < c->nheads; h++) {
+        double v[2];
+        int j = c->head_law[h];
+        mv2(c->V, c->X + 2 * c->head_node[h], v);
+        transferred += c->head_sign[h] * (c->f_prev[2 * j] * v[0] + c->f_prev[2 * j + 1] * v[1]);
+    }
+    return transferred;
+}
+
+static void carry(SmithSlab *c)
 {
     for (int j = 0; j < c->laws; j++) {
         double w[2];

@@ -44,7 +44,9 @@ class _Slab(ctypes.Structure):
         [(name, _P) for name in ("A", "Ainv", "ACp", "B", "Binv", "BCp", "g", "sol", "V", "W",
                                  "lnode", "lsign", "X", "b", "CW", "u", "f_prev", "y0", "y",
                                  "trial", "r",
-                                 "d", "sf", "f", "tan", "work")] + \
+                                 "d", "sf", "f", "tan", "work", "key", "key_work")] + \
+        [(name, ctypes.c_int) for name in ("nkeys", "nu", "nheads")] + \
+        [(name, _P) for name in ("unode", "head_law", "head_node", "head_sign")] + \
         [("soil", _Nodes), ("cushions", _Cushions), ("others", _OTHERS), ("yeval", _P), ("acted", ctypes.c_int),
          ("ran", ctypes.c_int), ("iterations", ctypes.c_int), ("norm", ctypes.c_double)]
 
@@ -60,13 +62,17 @@ class SmithSlab:
     """The slab's laws in one compiled Newton; after :meth:`run` the
     LawSet's ``f``, ``work`` and the Smith nodes' outputs are the slab's."""
 
-    def __init__(self, lib, lawset, solver, f_prev, rtol=1e-12, atol=1e-50, max_it=30):
+    def __init__(self, lib, lawset, solver, f_prev, keys, heads, rtol=1e-12, atol=1e-50,
+                 max_it=30):
+        """``keys``: each law's energy term; ``heads``: [(law, sign, node
+        among the LawSet's)] whose work on that node is reported."""
         for name in ("vst_smith_start", "vst_smith_solve"):
             getattr(lib, name).argtypes = [_P]
             getattr(lib, name).restype = ctypes.c_int
-        lib.vst_smith_carry.argtypes = [_P]
+        lib.vst_smith_advance.argtypes = [_P, ctypes.c_int]
+        lib.vst_smith_advance.restype = ctypes.c_double
         lib.vst_smith_finish.argtypes = [_P, ctypes.c_int]
-        lib.vst_smith_carry.restype = lib.vst_smith_finish.restype = None
+        lib.vst_smith_finish.restype = None
         self.bank = soil = SmithBank(lawset)
         lib.vst_smith_factor_a.argtypes = [_P, ctypes.c_long, _P, _P]
         lib.vst_smith_factor_a.restype = None
@@ -80,6 +86,13 @@ class SmithSlab:
                   "X": solver.x, "b": solver.br,
                   "CW": np.ascontiguousarray(solver.carry @ solver.W), "u": lawset.u, "f_prev": f_prev, "f": lawset.f,
                   "tan": np.zeros(4 * L), "work": np.zeros(L), "yeval": np.zeros(2 * L)}
+        self.keys = list(dict.fromkeys(keys))
+        arrays["key"] = np.array([self.keys.index(k) for k in keys], dtype=np.intc)
+        arrays["key_work"] = np.zeros(len(self.keys))
+        arrays["unode"] = np.ascontiguousarray(lawset.nodes, dtype=np.int64)
+        arrays["head_law"] = np.array([h[0] for h in heads], dtype=np.intc)
+        arrays["head_sign"] = np.array([h[1] for h in heads], dtype=float)
+        arrays["head_node"] = np.array([lawset.nodes[h[2]] for h in heads], dtype=np.int64)
         for name in ("Ainv", "ACp", "Binv", "BCp"):
             arrays[name] = np.zeros(4 * N)
         arrays["B"] = np.zeros_like(A)
@@ -98,10 +111,13 @@ class SmithSlab:
         self.others = [j for j, law in enumerate(self.laws) if id(law) not in compiled]
         self.other_laws = [(j, self.laws[j]) for j in self.others]
         self.callback = _OTHERS(self._evaluate_others) if self.others else _OTHERS()
-        self.ctx = _Slab(L, N, max_it, rtol, atol, self.laws[0].dt,
-                         *(arrays[name[0]].ctypes.data for name in _Slab._fields_[6:32]),
-                         soil.struct(), self.cushions.struct(), self.callback, arrays["yeval"].ctypes.data, 0, 0, 0,
-                         0.0)
+        self.ctx = _Slab(laws=L, N=N, max_it=max_it, rtol=rtol, atol=atol, dt=self.laws[0].dt,
+                         nkeys=len(self.keys), nu=lawset.nodes.size, nheads=len(heads),
+                         soil=soil.struct(), cushions=self.cushions.struct(),
+                         others=self.callback)
+        for name, kind in _Slab._fields_:
+            if kind is _P:
+                setattr(self.ctx, name, arrays[name].ctypes.data)
         self.ref = ctypes.addressof(self.ctx)
         soil.finish = lambda tables: lib.vst_smith_finish(self.ref, tables)
         self.f, self.work, self.y = lawset.f, arrays["work"], arrays["y"]
@@ -148,9 +164,15 @@ class SmithSlab:
         self.iterations = self.ctx.iterations
         return bool(ran)
 
-    def carry(self):
-        """The slab's terms into the running right-hand side (an acting slab)."""
-        self.lib.vst_smith_carry(self.ref)
+    def advance(self, acted):
+        """LawSolver.advance: the laws' displacements; after an acting slab
+        its terms into the running right-hand side; the marked laws' work
+        on their node (0 when none)."""
+        return self.lib.vst_smith_advance(self.ref, acted)
+
+    def work_terms(self):
+        """[(energy term, the slab's work)]."""
+        return zip(self.keys, self.a["key_work"].tolist())
 
 
 class SmithBank:
@@ -183,7 +205,7 @@ class SmithBank:
 
     def struct(self):
         a = self.a
-        return _Nodes(len(self.laws), *(a[name[0]].ctypes.data for name in _Nodes._fields_[1:]))
+        return _Nodes(len(self.laws), *(a[name].ctypes.data for name, _ in _Nodes._fields_[1:]))
 
     def sync(self):
         """The slips from the laws, once (after a restart has set them)."""
@@ -229,8 +251,8 @@ class CushionBank:
 
     def struct(self):
         a = self.a
-        return _Cushions(len(self.laws), *(a[name[0]].ctypes.data
-                                           for name in _Cushions._fields_[1:]))
+        return _Cushions(len(self.laws), *(a[name].ctypes.data
+                                           for name, _ in _Cushions._fields_[1:]))
 
     def before(self):
         if self.laws:

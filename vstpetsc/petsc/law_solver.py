@@ -83,10 +83,9 @@ class LawSolver:
     def _smith_slab(self, solver, tolerances):
         """The compiled slab for laws with Smith nodes; the nodes' state
         in a bank that finishes them; the work summed per energy term."""
-        slab = smith_slab.SmithSlab(native.library(), self.laws, solver, self.f, **tolerances)
+        slab = smith_slab.SmithSlab(native.library(), self.laws, solver, self.f, self.keys,
+                                    self.heads, **tolerances)
         self.laws.hand_over(slab.bank.laws, slab.bank)
-        self.key_groups = [(key, np.array([j for j, k in enumerate(self.keys) if k == key]))
-                           for key in dict.fromkeys(self.keys)]
         return slab
 
     def solve(self, X, b, dt, slab_index):
@@ -150,22 +149,23 @@ class LawSolver:
             return 0
         self.f[:] = step.f
         self.acted = True
-        for key, idx in self.key_groups:
-            self.work[key] += float(step.work[idx].sum())
+        for key, work in step.work_terms():
+            self.work[key] += work
         return step.iterations
 
     def advance(self, X, b):
         """Close the slab: the laws' displacements, their terms carried over
         in the running sum b."""
-        self.laws.u += self.coupling.increments(X)
-        if not self.acted:
-            return
         if isinstance(self.newton, smith_slab.SmithSlab):
-            self.newton.carry()
-        else:
+            transferred = self.newton.advance(self.acted)
+            if self.acted and self.heads:
+                self.work["transferred"] += transferred
+            return
+        self.laws.u += self.coupling.increments(X)
+        if self.acted:
             self.coupling.gather.add_rows(b, self.coupling.carry_rows @ self.f)
-        if self.heads:
-            self._transfer(X)
+            if self.heads:
+                self._transfer(X)
 
     def _transfer(self, X):
         """The slab's work of the marked laws on their node: the node
