@@ -4,12 +4,14 @@ waits for the others without spinning on a core.  No wall-time speed-ups
 here (bench/sweep_speed.py measures them)."""
 
 import json
+import os
 import shutil
 import sys
 
+import numpy as np
 import pytest
 
-from conftest import cli, write_case
+from conftest import ROOT, cli, write_case
 from test_parallel import mpirun
 from test_sweep import wall_case
 from vstpetsc import Result
@@ -108,3 +110,37 @@ def test_a_rank_done_with_its_runs_waits_without_spinning(tmp_path):
     waiting = times[1]["wall"] - times[1]["run_wall"]
     assert waiting > 1.5, times
     assert times[1]["cpu"] - times[1]["run_cpu"] < 0.1 * waiting, times
+
+
+@needs_mpirun
+def test_groups_of_two_ranks_take_runs_as_they_ask(tmp_path):
+    """`mpirun -n 4 --ranks-per-run 2`: two groups share five runs, each
+    run once on two ranks (mpi_size 2), the summary the one-rank one to the
+    two-rank bound."""
+    case = write_case(tmp_path, wall_case())
+    sets = ["--set", "body.bar.v0=0.5,1,1.5,2,2.5"]
+    assert cli("sweep", case, *sets, "-o", tmp_path / "one", "--quiet").returncode == 0
+    p = mpirun("sweep", case, *sets, "-o", tmp_path / "four", "--quiet", "--ranks-per-run", "2",
+               n=4, timeout=180)
+    assert p.returncode == 0 and p.stdout.count("sweep:") == 1, p.stderr
+    (header, one), (_, four) = (read_summary(str(tmp_path / d / "summary.csv"))
+                                for d in ("one", "four"))
+    assert four["status"] == ["completed"] * 5
+    assert four["file"] == [f"run-{i}.h5" for i in range(5)]
+    for key in header:
+        if key not in ("wall_time", "file", "status", "message"):
+            assert np.allclose(one[key], four[key], rtol=1e-10, atol=0), key
+    assert all(Result(tmp_path / "four" / f).attrs["mpi_size"] == 2 for f in four["file"])
+
+
+def test_bench_table_rows_match_the_head():
+    """bench/sweep_speed.py's README table: a row has the head's columns."""
+    sys.path.insert(0, os.path.join(ROOT, "bench"))
+    import sweep_speed
+    row = dict.fromkeys(("one_min_s", "one_median_s", "two_min_s", "two_median_s", "speedup",
+                         "speedup_median", "cpu_one_s", "cpu_two_s", "cores_one", "cores_two",
+                         "run_sum_one_s", "run_sum_two_s"), 1.0)
+    text = sweep_speed.section([{**row, "case": "c"}], 3, 0.5)
+    lines = text.splitlines()
+    assert lines[0] == sweep_speed.SECTION
+    assert [line.count("|") for line in lines[-3:]] == [8, 8, 8]
