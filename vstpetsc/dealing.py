@@ -46,14 +46,14 @@ class RunQueue:
 
         if self._window is None:
             return index + 1
-        index = None
+        taken = None
         if self.group.Get_rank() == 0:
-            one, taken = np.ones(1, np.int64), np.zeros(1, np.int64)
+            one, before = np.ones(1, np.int64), np.zeros(1, np.int64)
             self._window.Lock(0, MPI.LOCK_SHARED)
-            self._window.Fetch_and_op(one, taken, 0, 0, MPI.SUM)
+            self._window.Fetch_and_op(one, before, 0, 0, MPI.SUM)
             self._window.Unlock(0)
-            index = int(taken[0])
-        return self.group.bcast(index, root=0) if self.group.Get_size() > 1 else index
+            taken = int(before[0])
+        return self.group.bcast(taken, root=0) if self.group.Get_size() > 1 else taken
 
     def free(self):
         if self._window is not None:
