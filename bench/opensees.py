@@ -42,6 +42,8 @@ import time
 
 import numpy as np
 
+from readme import write_readme
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 E, RHO, AREA, LENGTH = 2.0e11, 7850.0, 1.0, 1.0
 C = math.sqrt(E / RHO)
@@ -548,19 +550,6 @@ def table_row(name, row, runs):
     return (head + f" {run['elements']} | {run['dt']:.3g} | {run['courant']:.3g} | "
             f"{run['error']:.2e} | {peak} | {1e3 * row['time_min']:.1f} / "
             f"{1e3 * row['time_median']:.1f} |")
-
-
-def write_readme(path, text):
-    """Replace (or append) the section in README.md, leaving the rest."""
-    old = open(path).read() if os.path.exists(path) else ""
-    start = old.find(SECTION)
-    if start < 0:
-        new = old.rstrip("\n") + "\n\n" + text
-    else:
-        rest = old.find("\n## ", start + len(SECTION))
-        new = old[:start] + text + ("" if rest < 0 else "\n" + old[rest + 1:])
-    with open(path, "w") as f:
-        f.write(new)
 
 
 def main(argv=None):

@@ -159,10 +159,10 @@ def speed_table(speed, sweeps):
                      f"{r['speedup_halves_median']:.2f} |")
     lines += ["", "Sweeps (bench/sweep_speed.py): `mpirun -n P vstpetsc sweep` of 8 runs of "
               "bar-wall at 2000 elements, c dt/h = 1, start-up included; 3 repetitions; goal "
-              "2 ranks >= 1.8 x one. Last column: the runs' own wall times summed (the least "
-              "over repetitions), on one rank and on two (two runs at once).", "",
-              "| slabs a run | 1 rank [s] min / median | 2 ranks [s] min / median | "
-              "speed-up min / median | runs' sum [s] 1 / 2 ranks |", "|---|---|---|---|---|"]
+              "2 ranks >= 1.8 x one. CPU: user + system seconds of mpirun and its ranks; busy "
+              "cores: CPU over wall. Last column: the runs' own wall times summed (the least "
+              "over repetitions), on one rank and on two (two runs at once).", ""]
+    lines += sweep_speed.head()
     for r in sweeps:
         lines += sweep_speed.table(r)
     return lines

@@ -24,6 +24,7 @@ import time
 
 import numpy as np
 
+from vstpetsc.dealing import RunQueue, wait_for_all
 from vstpetsc.errors import CaseError, InputError, SolveFailed
 
 FIXED = ("file", "status", "wall_time")
@@ -164,13 +165,15 @@ def sweep(case, settings, folder, options=(), comm=None, ranks_per_run=1):
     _check_folder(folder)
     petsc.initialize([])
     comm = petsc.communicator(comm).tompi4py()
-    group, groups = _groups(comm, ranks_per_run)
+    group = _group(comm, ranks_per_run)
     lock = None
     try:
         lock = _on_root(comm, lambda: _take_folder(folder))
-        mine = _share(comm, lambda: _my_runs(case, combos, folder, options, group,
-                                             range(comm.Get_rank() // ranks_per_run,
-                                                   len(combos), groups)))
+        queue = RunQueue(comm, group, len(combos))
+        try:
+            mine = _share(comm, lambda: _my_runs(case, combos, folder, options, group, queue))
+        finally:
+            queue.free()
         parts = comm.allgather(mine)
         rows = [next(p[i] for p in parts if i in p) for i in range(len(combos))]
         _on_root(comm, lambda: _write_summary_or_fail(folder, rows, list(settings)))
@@ -182,8 +185,8 @@ def sweep(case, settings, folder, options=(), comm=None, ranks_per_run=1):
 
 
 def _my_runs(case, combos, folder, options, group, indices):
-    """{i: row} of the runs ``indices`` (this rank's group's share; the rows
-    are kept by the group's first rank)."""
+    """{i: row} of the runs ``indices`` (this rank's group's share, a
+    RunQueue; the rows are kept by the group's first rank)."""
     width = len(str(len(combos) - 1))
     mine = {}
     for i in indices:
@@ -256,6 +259,7 @@ def _share(comm, action):
         value = action()
     except Exception as exc:        # shared below, whatever it is, then raised
         error = exc
+    wait_for_all(comm)              # the ranks still running keep their cores
     messages = comm.allgather(None if error is None else f"{type(error).__name__}: {error}")
     if error is not None:
         raise error
@@ -265,14 +269,14 @@ def _share(comm, action):
     return value
 
 
-def _groups(comm, ranks_per_run):
-    """(this rank's group communicator, number of groups) of ``comm`` cut
-    into groups of ``ranks_per_run`` consecutive ranks."""
+def _group(comm, ranks_per_run):
+    """This rank's group communicator of ``comm`` cut into groups of
+    ``ranks_per_run`` consecutive ranks."""
     size = comm.Get_size()
     if not isinstance(ranks_per_run, int) or ranks_per_run < 1 or size % ranks_per_run:
         raise InputError(f"--ranks-per-run: a whole divisor of the {size} ranks, got "
                          f"{ranks_per_run!r}")
-    return comm.Split(comm.Get_rank() // ranks_per_run, comm.Get_rank()), size // ranks_per_run
+    return comm.Split(comm.Get_rank() // ranks_per_run, comm.Get_rank())
 
 
 def columns(rows, keys):
