@@ -71,6 +71,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/soil_cost.py
 	$(PY) bench/blas_threads.py
 	$(PY) bench/sweep_speed.py
+	$(PY) bench/pile_speed.py
 
 bench-quick: install
 	$(PY) bench/run.py --quick --out bench/quick
