@@ -158,3 +158,25 @@ def test_a_restart_continues_the_compiled_blow_bit_for_bit(tmp_path):
     for key in ("soil/0/slip", "body/pile/u", "body/ram/v", "energy/soil"):
         assert np.array_equal(again[key], full[key]), key
     assert again.group_attrs("soil/0")["set"] == full.group_attrs("soil/0")["set"]
+
+
+def test_the_pile_bench_reports_every_field(tmp_path):
+    """bench/pile_speed.py --quick: both methods reach the accuracy, every
+    time is positive, its README section is written."""
+    import json
+    import subprocess
+    import sys
+
+    from conftest import ROOT
+
+    (tmp_path / "README.md").write_text("# Benchmarks\n")
+    p = subprocess.run([sys.executable, "pile_speed.py", "--quick", "--out", str(tmp_path)],
+                       cwd=f"{ROOT}/bench", capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    res = json.loads((tmp_path / "pile_speed.json").read_text())
+    for method in ("vstpetsc", "smith"):
+        row = res[method]
+        assert abs(row["sets"][str(row["size"])] / res["reference"] - 1) <= res["tol"]
+        assert 0 < row["min"] <= row["median"]
+    assert all(0 < r["min"] <= r["median"] for r in res["slab"].values())
+    assert "## Pile driving at equal accuracy" in (tmp_path / "README.md").read_text()
