@@ -5,6 +5,8 @@ converts and names each through several calls); a tiny run makes dozens of
 each, so the run's fixed cost was mostly these.  The objects are the same
 as the high level makes (types, chunks, property lists)."""
 
+from typing import NamedTuple
+
 import h5py
 import numpy as np
 
@@ -40,13 +42,30 @@ def _plain(value):
     return data if data.dtype.kind in "iuf" else None
 
 
+class Grown(NamedTuple):
+    """A growing dataset as the writer needs it: its low-level id, rows,
+    row shape, chunk shape and dtype (read from HDF5, each costs ~10-25
+    us; a new file's are known)."""
+
+    id: object
+    rows: int
+    tail: tuple
+    chunks: tuple
+    dtype: np.dtype
+
+    @classmethod
+    def of(cls, ds):
+        """The Grown of an open h5py Dataset."""
+        return cls(ds.id, ds.shape[0], ds.shape[1:], ds.chunks, ds.dtype)
+
+
 class Growing:
     """The growing datasets of a new file (and the writer's snapshots),
     made through h5py's low level with one creation property list per
     chunk shape: what h5py's ``create_dataset`` makes (chunked or
     contiguous, no time stamps, intermediate groups created), at a third of
     its cost (~0.1 ms a dataset there, and a run makes dozens); {name:
-    dataset id} of the growing ones in ``ids``, in the order made."""
+    :class:`Grown`} of the growing ones in ``ids``, in the order made."""
 
     def __init__(self, f):
         self.f, self.ids, self.plists = f, {}, {}
@@ -58,9 +77,10 @@ class Growing:
     def add(self, name, tail, rows, dtype):
         """An empty dataset ``name`` of rows ``tail`` growing along its first
         axis, chunks of ``rows`` rows."""
-        tail = tuple(tail)
+        tail, chunks = tuple(tail), (rows,) + tuple(tail)
         space = h5py.h5s.create_simple((0,) + tail, (h5py.h5s.UNLIMITED,) + tail)
-        self.ids[name] = self._make(name, space, dtype, (rows,) + tail)
+        self.ids[name] = Grown(self._make(name, space, dtype, chunks), 0, tail, chunks,
+                               np.dtype(dtype))
 
     def fixed(self, name, shape, dtype):
         """The id of a new dataset ``name`` of fixed ``shape`` (contiguous)."""

@@ -29,13 +29,14 @@ from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.results import layout
 from vstpetsc.results.blocks import BlockThread
 from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
-from vstpetsc.results.hdf5 import Growing, count_attr, set_attrs
+from vstpetsc.results.hdf5 import Grown, Growing, count_attr, set_attrs
 from vstpetsc.results.layout import COMPLETE_GAUGE_ROWS, COMPLETE_ROWS
 
 BUFFER_VALUES = 1 << 20          # doubles per series buffer (8 MB; two of them with a thread)
 BUFFER_ROWS = 1 << 13            # rows a block holds at most (a block costs ~3 ms)
 THREAD_ROWS = 16                 # fewer rows a block: no second set, no thread
 EVENT_CHUNK = 256                # rows of an events dataset's chunk
+CHUNK_FLOOR = 64                 # fewest rows of a series' chunk (chunk_rows)
 MARGIN = 1 << 18                 # bytes reserved beyond a block's estimate
 _UNCLOSABLE = []                 # files HDF5 failed to write: never closed
 
@@ -57,8 +58,8 @@ class GaugeStream:
 
     def __init__(self, growing, names, rows=BUFFER_ROWS):
         self.names = names
-        self.ids = [growing[name] for name in names]
-        self.n = self.ids[0].shape[0]
+        self.ids = [growing[name].id for name in names]
+        self.n = growing[names[0]].rows
         rows = max(1, min(BUFFER_ROWS, rows))
         self.buffer = _touched((rows, len(names)), np.float64)
         self.spare = _touched((rows, len(names)), np.float64)   # in flight
@@ -66,8 +67,8 @@ class GaugeStream:
 
     @classmethod
     def of(cls, growing, rows=BUFFER_ROWS):
-        """The stream of the gauge series among ``growing`` ({name: dataset
-        id}), a buffer of at most ``rows`` rows (None when there are none)."""
+        """The stream of the gauge series among ``growing`` ({name: Grown}),
+        a buffer of at most ``rows`` rows (None when there are none)."""
         names = [name for name in growing if layout.every_slab(name)]
         return cls(growing, names, rows) if names else None
 
@@ -115,8 +116,8 @@ class EventRows:
     file."""
 
     def __init__(self, growing):
-        self.ids = {name: dsid for name, dsid in growing.items() if layout.is_events(name)}
-        self.n = {name: dsid.shape[0] for name, dsid in self.ids.items()}
+        self.ids = {name: ds.id for name, ds in growing.items() if layout.is_events(name)}
+        self.n = {name: growing[name].rows for name in self.ids}
         self.pending = {}
         self.counts = {name: count_attr(dsid, COMPLETE_ROWS, self.n[name])
                        for name, dsid in self.ids.items()}
@@ -228,7 +229,7 @@ class ResultWriter:
         self.flushed_slab = None
         self.last_flush = time.monotonic()
         self.broken = False
-        # the file's growing datasets {name: low-level id}: those a new file
+        # the file's growing datasets {name: Grown}: those a new file
         # was made with, or the walk of a reopened file (a walk costs ~3 ms)
         self.growing = _series_of(f) if growing is None else growing
         # buffers no longer than the run needs (``expected``: its kept rows
@@ -254,7 +255,7 @@ class ResultWriter:
             fd = os.open(temp, os.O_RDWR)
             header = sum(np.asarray(a).nbytes for a in statics.values())
             DiskReserve(fd).ensure(f.id.get_filesize(), header + MARGIN)
-            growing = _header(f, series, statics, groups, attrs, events)
+            growing = _header(f, series, statics, groups, attrs, events, expected)
             self = cls(f, lock, interval, fd, growing, expected)
             self.append(first_row)
             if self.gauges:
@@ -433,20 +434,18 @@ def _track(growing, most=BUFFER_ROWS):
     """(series {name: (low-level handle, row shape, (chunk rows, chunk
     bytes))}, two sets of buffers {name: array}, rows a buffer holds) of
     the series kept with the rows among ``growing`` ({name: low-level
-    dataset id}), buffers of at most ``most`` rows (h5py's high-level resize
+    Grown}), buffers of at most ``most`` rows (h5py's high-level resize
     and item assignment cost ~200 us a call); the second set is None when a
     buffer holds fewer than THREAD_ROWS rows (huge rows: memory first, and
     a tiny run: blocks are written at once)."""
     series, buffers, capacity = {}, {}, None
-    for name, dsid in growing.items():
+    for name, ds in growing.items():
         if layout.every_slab(name) or layout.is_events(name):
             continue
-        tail, dtype = dsid.shape[1:], dsid.dtype
-        width = math.prod(tail)
-        rows = max(1, min(BUFFER_ROWS, BUFFER_VALUES // max(1, width), most))
-        chunks = dsid.get_create_plist().get_chunk()
-        chunk = (chunks[0], math.prod(chunks) * dtype.itemsize)
-        series[name] = (dsid, tail, chunk)
+        tail, dtype = ds.tail, ds.dtype
+        rows = max(1, min(BUFFER_ROWS, BUFFER_VALUES // max(1, math.prod(tail)), most))
+        chunk = (ds.chunks[0], math.prod(ds.chunks) * dtype.itemsize)
+        series[name] = (ds.id, tail, chunk)
         buffers[name] = _touched((rows,) + tail, dtype)
         capacity = min(rows, capacity or rows)
     spare = None if capacity is not None and capacity < THREAD_ROWS else \
@@ -474,16 +473,19 @@ def _append(dsid, n, rows):
 
 
 def _series_of(f):
-    """{name: low-level dataset id} of every growing dataset of an open file."""
+    """{name: :class:`~vstpetsc.results.hdf5.Grown`} of every growing
+    dataset of an open file."""
     found = {}
-    f.visititems(lambda name, obj: found.update({name: obj.id})
+    f.visititems(lambda name, obj: found.update({name: Grown.of(obj)})
                  if isinstance(obj, h5py.Dataset) and layout.grows(obj) else None)
     return found
 
 
-def _header(f, series, statics, groups, attrs, events=()):
+def _header(f, series, statics, groups, attrs, events=(), expected=None):
     """Write a new file's attributes, static datasets and groups and create
-    its growing datasets; returns {name: low-level id} of those."""
+    its growing datasets, chunks of :func:`chunk_rows` (``expected``: the
+    kept rows and gauge rows the run writes, if known); returns {name:
+    Grown} of those."""
     set_attrs(f, {"status": "running", "version": __version__, **attrs})
     for name, data in statics.items():
         f.create_dataset(name, data=data)
@@ -491,13 +493,25 @@ def _header(f, series, statics, groups, attrs, events=()):
         set_attrs(f.require_group(group), group_attrs)
     growing = Growing(f)
     for name, tail in series:
-        width = math.prod(tail)
-        rows = max(1, min(4096, 65536 // max(1, width)))
-        growing.add(name, tail, rows, "i8" if name in layout.INTEGER_SERIES else "f8")
+        rows = expected and expected[1 if layout.every_slab(name) else 0]
+        growing.add(name, tail, chunk_rows(tail, rows),
+                    "i8" if name in layout.INTEGER_SERIES else "f8")
     for name in events:
         growing.add(name, (2,), EVENT_CHUNK, "f8")
     f.require_group(layout.CONTACT)
     return growing.ids
+
+
+def chunk_rows(tail, rows=None):
+    """Rows of a chunk of a growing dataset of rows ``tail``: 512 kB at
+    most, 4096 rows at most, and for a run known to keep ``rows`` rows no
+    more than those rounded up to a power of two (at least CHUNK_FLOOR):
+    HDF5 writes whole chunks, and a tiny run's file was 2.5 MB of zeros.
+    A restart that continues a short run far keeps its small chunks."""
+    most = max(1, min(4096, 65536 // max(1, math.prod(tail))))
+    if rows is None:
+        return most
+    return min(most, max(CHUNK_FLOOR, 1 << max(0, int(rows) - 1).bit_length()))
 
 
 def _abandon(f, broken, fd=None):
