@@ -16,7 +16,6 @@ is retried.
 import os
 import time
 
-import h5py
 import numpy as np
 
 from vstpetsc.errors import InputError
@@ -82,7 +81,10 @@ class Result:
         return outline
 
     def _open(self):
-        # a run may be writing the file: read it without HDF5's file lock
+        # h5py here, not at the top: `import vstpetsc` leaves it (~0.1 s) to
+        # what reads or writes a file.  A run may be writing the file: read
+        # it without HDF5's file lock
+        import h5py
         return h5py.File(self.path, "r", locking=False)
 
     def _with_file(self, action):
@@ -116,6 +118,7 @@ class Result:
     def read(self, name, selection=()):
         """Dataset ``name``, or the part of it that ``selection`` (an index
         expression, e.g. ``np.s_[rows, :]``) picks, as an array."""
+        import h5py
         def part(f):
             if name.strip("/") not in self._names:
                 return None
@@ -267,6 +270,7 @@ def _walk(f):
     open file, in the file's order, through h5py's low level (its
     ``visititems`` makes a Dataset or Group per name: ~10 ms for a small
     result file, the most of opening it)."""
+    import h5py
     found = []
 
     def note(name, info):
@@ -284,6 +288,7 @@ def _kind_of(dims, most):
     """What a dataset of shape ``dims`` and largest shape ``most`` is:
     "series" (1-D, growing with the run), "table" (growing along its first
     axis) or "dataset"."""
+    import h5py
     if not most or most[0] != h5py.h5s.UNLIMITED:
         return "dataset"
     return "series" if len(dims) == 1 else "table"
