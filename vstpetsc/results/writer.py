@@ -326,14 +326,15 @@ class ResultWriter:
         return self.pending > 0 and (self.pending == self.capacity or
                                      time.monotonic() - self.last_flush >= self.interval)
 
-    def flush(self, snapshots=None, slab=None, gauges_only=False):
+    def flush(self, snapshots=None, slab=None, gauges_only=False, then=None):
         """Write the buffered rows and ``snapshots`` ({name: array}, state
         at the last row, slab number ``slab``; arrays given away: the
         thread writes them while the run goes on), then flush HDF5: on a
         thread (:mod:`~vstpetsc.results.blocks`) when there are two sets
         of buffers, after the block before it, whose failure is raised
         here; with ``gauges_only`` the gauge rows alone, at once (a full
-        gauge buffer between kept rows)."""
+        gauge buffer between kept rows); ``then()``: more HDF5 writes that
+        go with the block's last flush (a closing run's status)."""
         self.settle()
         snapshots = snapshots or {}
         try:
@@ -347,24 +348,28 @@ class ResultWriter:
         if gauges_only:
             self._write(self.gauges.write, self.gauges.take())
         elif self.spare is None:
-            self._write(self._write_block, self._take(), snapshots, slab)
+            self._write(self._write_block, self._take(), snapshots, slab, then=then)
         else:
             block = self._take()
-            self.thread.start(lambda: self._write(self._write_block, block, snapshots, slab))
+            self.thread.start(lambda: self._write(self._write_block, block, snapshots, slab,
+                                                  then=then))
         self.last_flush = time.monotonic()
 
     def settle(self):
         """Until the block in flight is in the file; its OutputFailed."""
         self.thread.wait()
 
-    def _write(self, action, *args):
+    def _write(self, action, *args, then=None):
         """``action(*args)``, an HDF5 flush, the counts of complete rows
-        (:class:`Completed`) and a flush; an HDF5 error breaks the file."""
+        (:class:`Completed`), ``then()`` and a flush; an HDF5 error breaks
+        the file."""
         try:
             action(*args)
             self.f.flush()
             self.completed.write(self.n, self._gauge_rows())
             self.events.complete()
+            if then is not None:
+                then()
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             self.broken = True
@@ -406,19 +411,23 @@ class ResultWriter:
         {group: attributes} too), close the
         file, cut off the reserved tail and release the lock.  If the last
         block cannot be written the status becomes "failed" and the error
-        is raised after the file is closed."""
+        is raised after the file is closed.  The status goes with the last
+        block's last flush, after its rows are on disk (a flush less)."""
         error = None
+
+        def finish():
+            set_attrs(self.f, {"status": status, **attrs})
+            for group, values in (groups or {}).items():
+                set_attrs(self.f[group], values)
         if not self.broken:
             try:
-                self.flush(snapshots, slab)
+                self.flush(snapshots, slab, then=finish)
                 self.settle()
             except OutputFailed as exc:
                 error, status, attrs = exc, "failed", {"message": str(exc)}
-        if not self.broken:
+        if not self.broken and error is not None:       # the status of a failed block
             try:
-                set_attrs(self.f, {"status": status, **attrs})
-                for group, values in (groups or {}).items():
-                    set_attrs(self.f[group], values)
+                finish()
                 self.f.flush()
             except (OSError, RuntimeError, ValueError) as exc:
                 self.broken = True
@@ -433,7 +442,7 @@ class ResultWriter:
 def _track(growing, most=BUFFER_ROWS):
     """(series {name: (low-level handle, row shape, (chunk rows, chunk
     bytes))}, two sets of buffers {name: array}, rows a buffer holds) of
-    the series kept with the rows among ``growing`` ({name: low-level
+    the series kept with the rows among ``growing`` ({name:
     Grown}), buffers of at most ``most`` rows (h5py's high-level resize
     and item assignment cost ~200 us a call); the second set is None when a
     buffer holds fewer than THREAD_ROWS rows (huge rows: memory first, and
