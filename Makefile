@@ -70,6 +70,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/parallel_solvers.py
 	$(PY) bench/soil_cost.py
 	$(PY) bench/blas_threads.py
+	$(PY) bench/run_overhead.py --readme
 
 bench-quick: install
 	$(PY) bench/run.py --quick --out bench/quick

@@ -40,12 +40,29 @@ def walked(path):
     return out
 
 
+def loaded_after(code):
+    """The sorted modules of interest loaded by ``code`` in a new process."""
+    code += ("; import sys; print(sorted(m for m in sys.modules if m.split('.')[0] in "
+             "('matplotlib', 'scipy', 'h5py', 'petsc4py', 'mpi4py', 'threadpoolctl') or "
+             "m in ('vstpetsc.driver', 'vstpetsc.case', 'vstpetsc.results.reader')))")
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True).stdout.strip()
+
+
 def test_import_loads_no_heavy_module():
-    code = ("import sys, vstpetsc, vstpetsc.cli; print(sorted(m for m in ('matplotlib', "
-            "'scipy', 'h5py', 'petsc4py', 'mpi4py', 'threadpoolctl') if m in sys.modules))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True).stdout
-    assert out.strip() == "[]"
+    assert loaded_after("import vstpetsc") == "[]"
+    assert loaded_after("import vstpetsc.cli") == "[]"
+
+
+def test_public_names_load_on_demand():
+    assert loaded_after("import vstpetsc; vstpetsc.Case") == "['vstpetsc.case']"
+    assert "'vstpetsc.driver'" in loaded_after("from vstpetsc import run")
+    for name in vstpetsc.__all__:
+        assert name in dir(vstpetsc) and getattr(vstpetsc, name) is not None
+    assert vstpetsc.sweep.__module__ == "vstpetsc.sweep"      # the function, not the module
+    assert vstpetsc.results.reader.Result is vstpetsc.Result   # submodules as before
+    with pytest.raises(AttributeError):
+        vstpetsc.no_such_name
 
 
 def test_tiny_run_reads_back_whole_without_a_block_thread(tmp_path, monkeypatch):
