@@ -6,10 +6,13 @@
     time minus 2 slabs, a slab's cost being the marginal cost of the slabs
     of a long run of the same case (the difference of a long and the tiny
     run over their difference in slabs).  With the time of each phase.
-(b) The start of a process: ``python -c "import vstpetsc"``, ``vstpetsc
-    --help`` and ``vstpetsc run`` of the 2-slab case, each in a subprocess
+(b) The start of a process: ``python -c "import vstpetsc"`` (and ``import
+    numpy``, its floor), ``vstpetsc --help`` and ``vstpetsc run`` of the
+    2-slab case, each in a subprocess
     (min and median of several), and inside one such process the time of
-    the import, of PETSc's and MPI's start and of the first run.
+    the import (and reading the case), of PETSc's and MPI's start and of
+    the first run (which loads what a run needs: h5py, the solver's
+    modules, the compiled kernels, the BLAS lookup).
 
     .venv/bin/python bench/run_overhead.py [--runs 20] [--starts 7] [--readme]
 
@@ -44,11 +47,11 @@ START = r"""
 import json, sys, time
 t0 = time.perf_counter()
 import vstpetsc
-from vstpetsc import petsc
+case = vstpetsc.Case.from_toml(sys.argv[1])
 t1 = time.perf_counter()
+from vstpetsc import petsc
 petsc.initialize()
 t2 = time.perf_counter()
-case = vstpetsc.Case.from_toml(sys.argv[1])
 vstpetsc.run(case, sys.argv[2] + "/a.h5", quiet=True)
 t3 = time.perf_counter()
 vstpetsc.run(case, sys.argv[2] + "/b.h5", quiet=True)
@@ -121,12 +124,13 @@ def api_costs(folder, runs):
 def process_costs(folder, starts):
     """{what: [s]} of whole processes, and {phase: [s]} inside one."""
     tiny, _, _ = tiny_cases(folder)
-    commands = {"python -c \"import vstpetsc\"": [sys.executable, "-c", "import vstpetsc"],
+    commands = {"python -c \"import numpy\"": [sys.executable, "-c", "import numpy"],
+                "python -c \"import vstpetsc\"": [sys.executable, "-c", "import vstpetsc"],
                 "vstpetsc --help": [VSTPETSC, "--help"],
                 "vstpetsc run (2 slabs)": [VSTPETSC, "run", tiny, "-o",
                                            os.path.join(folder, "cli.h5")]}
     whole = {what: [] for what in commands}
-    inside = {what: [] for what in ("import vstpetsc", "PETSc and MPI started",
+    inside = {what: [] for what in ("import vstpetsc, case read", "PETSc and MPI started",
                                     "first run (2 slabs)", "second run (2 slabs)")}
     for _ in range(starts):
         for what, argv in commands.items():
