@@ -72,6 +72,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/blas_threads.py
 	$(PY) bench/sweep_speed.py
 	$(PY) bench/pile_speed.py
+	$(PY) bench/run_overhead.py --readme
 
 bench-quick: install
 	$(PY) bench/run.py --quick --out bench/quick

@@ -15,14 +15,39 @@ The Python API (the command line is a thin shell over it)::
 
 __version__ = "0.2.0"
 
-from vstpetsc.case import Case                                   # noqa: E402
-from vstpetsc.driver import RunInfo, run                         # noqa: E402
+import importlib  # noqa: E402
+import importlib.util  # noqa: E402
+
 from vstpetsc.errors import (CaseError, InputError, Interrupted,  # noqa: E402
                              SolveFailed)
-from vstpetsc.results.reader import Result                       # noqa: E402
-from vstpetsc.spectrum import response_spectrum, transfer_function  # noqa: E402
+# here, not on demand: the module vstpetsc.sweep has the function's name,
+# and importing the module later would make vstpetsc.sweep the module
 from vstpetsc.sweep import sweep                                 # noqa: E402
+
+# The other public names and their modules, imported when first asked for
+# (PEP 562): `import vstpetsc` loads numpy and no more (issue 29: it loaded
+# every module of the package, h5py and scipy included, which `vstpetsc
+# --help` and every tool that only imports the package paid); the first
+# ``vstpetsc.run`` loads what a run needs, once per process.
+_PUBLIC = {"Case": "vstpetsc.case", "RunInfo": "vstpetsc.driver", "run": "vstpetsc.driver",
+           "Result": "vstpetsc.results.reader", "response_spectrum": "vstpetsc.spectrum",
+           "transfer_function": "vstpetsc.spectrum"}
 
 __all__ = ["Case", "CaseError", "InputError", "Interrupted", "Result", "RunInfo",
            "SolveFailed", "response_spectrum", "run", "sweep", "transfer_function",
            "__version__"]
+
+
+def __getattr__(name):
+    """A public name (imported now, then kept), or a submodule."""
+    if name in _PUBLIC:
+        value = getattr(importlib.import_module(_PUBLIC[name]), name)
+        globals()[name] = value
+        return value
+    if not name.startswith("__") and importlib.util.find_spec(f"{__name__}.{name}"):
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_PUBLIC))

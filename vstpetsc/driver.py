@@ -17,7 +17,6 @@ from vstpetsc.energy import HELD, EnergyBook
 from vstpetsc.errors import InputError, Interrupted, SolveFailed
 from vstpetsc.loading import SlabLoads
 from vstpetsc.recorder import Recorder, load_restart
-from vstpetsc.static import static_state
 from vstpetsc.results import layout
 from vstpetsc.results.files import foreign, path_problem, same_file
 from vstpetsc.results.reader import Result
@@ -146,6 +145,7 @@ class TimeLoop:
         self.model = model_mod.build_model(case)
         self.static = None
         if case.gravity is not None and case.gravity.initial == "static":
+            from vstpetsc.static import static_state       # scipy: only here
             self.static = static_state(self.model, case.dt)
             self.model.laws.append(self.static.reactions)
         self.start = time.perf_counter()

@@ -71,10 +71,13 @@ class Recorder:
 
         model = self.model
         snapshots = self._snapshots(rhs=False)          # collective
+        case = model.case
+        # the rows this run writes at most: a tiny run's buffers are small
+        expected = (case.nslabs // case.every + 2, case.nslabs + 2)
 
         def create():
             if restart:
-                self.writer = ResultWriter.reopen(self.lock, attrs, self.interval)
+                self.writer = ResultWriter.reopen(self.lock, attrs, self.interval, expected)
                 # events of slabs after the last row (a block killed midway)
                 self.writer.events.truncate({name: law.totals["event_count"]
                                              for law, name in self.event_sets})
@@ -87,7 +90,7 @@ class Recorder:
             self.writer = ResultWriter.create(
                 self.output, layout.series(model), layout.statics(model),
                 layout.group_attrs(model), attrs, first, self.interval, snapshots,
-                [name for _, name in self.event_sets])
+                [name for _, name in self.event_sets], expected)
         self._agree(create)
         if self.writer and self.writer.gauges:
             column = dict(self.gauges.series())

@@ -16,7 +16,6 @@ is retried.
 import os
 import time
 
-import h5py
 import numpy as np
 
 from vstpetsc.errors import InputError
@@ -82,7 +81,10 @@ class Result:
         return outline
 
     def _open(self):
-        # a run may be writing the file: read it without HDF5's file lock
+        # h5py here, not at the top: `import vstpetsc` leaves it (~0.1 s) to
+        # what reads or writes a file.  A run may be writing the file: read
+        # it without HDF5's file lock
+        import h5py
         return h5py.File(self.path, "r", locking=False)
 
     def _with_file(self, action):
@@ -116,6 +118,7 @@ class Result:
     def read(self, name, selection=()):
         """Dataset ``name``, or the part of it that ``selection`` (an index
         expression, e.g. ``np.s_[rows, :]``) picks, as an array."""
+        import h5py
         def part(f):
             if name.strip("/") not in self._names:
                 return None
@@ -246,32 +249,49 @@ class Result:
 def _outline(f):
     """(missing required names, body names left to right, number of
     contact pairs, complete rows, complete gauge rows, {name: kind} of every
-    group and dataset (:func:`_kind`)) of an open file."""
+    group and dataset (:func:`_walk`)) of an open file."""
     missing = [k for k in layout.REQUIRED if k not in f]
     bodies = [name for _, name in sorted((f[layout.body_path(n, "x")][0], n)
                                          for n in f[layout.BODY])] if not missing else []
     ncontacts = len(f[layout.CONTACT]) if layout.CONTACT in f else 0
     names, kept, every_slab = {}, [], []
-
-    def note(name, obj):
-        names[name] = _kind(obj)
-        if names[name] in ("series", "table") and not layout.is_events(name):
-            (every_slab if layout.every_slab(name) else kept).append(obj.shape[0])
-    f.visititems(note)
+    for name, kind, length in _walk(f):
+        names[name] = kind
+        if kind in ("series", "table") and not layout.is_events(name):
+            (every_slab if layout.every_slab(name) else kept).append(length)
     counts = [min(lengths + [int(f.attrs.get(attr, np.iinfo(np.int64).max))])
               if lengths else 0 for lengths, attr in
               ((kept, layout.COMPLETE_ROWS), (every_slab, layout.COMPLETE_GAUGE_ROWS))]
     return missing, bodies, ncontacts, *counts, names
 
 
-def _kind(obj):
-    """"group", "series" (a 1-D dataset growing with the run), "table" (one
-    growing along its first axis) or "dataset"."""
-    if not isinstance(obj, h5py.Dataset):
-        return "group"
-    if not layout.grows(obj):
+def _walk(f):
+    """[(name, kind, rows)] of every group and dataset of an
+    open file, in the file's order, through h5py's low level (its
+    ``visititems`` makes a Dataset or Group per name: ~10 ms for a small
+    result file, the most of opening it)."""
+    import h5py
+    found = []
+
+    def note(name, info):
+        if info.type != h5py.h5o.TYPE_DATASET:
+            found.append((name.decode(), "group", None))
+            return
+        space = h5py.h5d.open(f.id, name).get_space()
+        dims, most = space.get_simple_extent_dims(), space.get_simple_extent_dims(True)
+        found.append((name.decode(), _kind_of(dims, most), dims[0] if dims else None))
+    h5py.h5o.visit(f.id, note, info=True)
+    return found
+
+
+def _kind_of(dims, most):
+    """What a dataset of shape ``dims`` and largest shape ``most`` is:
+    "series" (1-D, growing with the run), "table" (growing along its first
+    axis) or "dataset"."""
+    import h5py
+    if not most or most[0] != h5py.h5s.UNLIMITED:
         return "dataset"
-    return "series" if obj.ndim == 1 else "table"
+    return "series" if len(dims) == 1 else "table"
 
 
 def _rows(ds, rows, selection):

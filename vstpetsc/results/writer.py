@@ -16,6 +16,7 @@ the disk meanwhile) leaves the file unclosed: HDF5 1.10 crashes when such
 a file is closed (see :func:`unclosable`).
 """
 
+import math
 import os
 import re
 import time
@@ -28,12 +29,14 @@ from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.results import layout
 from vstpetsc.results.blocks import BlockThread
 from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
+from vstpetsc.results.hdf5 import Grown, Growing, count_attr, set_attrs
 from vstpetsc.results.layout import COMPLETE_GAUGE_ROWS, COMPLETE_ROWS
 
 BUFFER_VALUES = 1 << 20          # doubles per series buffer (8 MB; two of them with a thread)
 BUFFER_ROWS = 1 << 13            # rows a block holds at most (a block costs ~3 ms)
 THREAD_ROWS = 16                 # fewer rows a block: no second set, no thread
 EVENT_CHUNK = 256                # rows of an events dataset's chunk
+CHUNK_FLOOR = 64                 # fewest rows of a series' chunk (chunk_rows)
 MARGIN = 1 << 18                 # bytes reserved beyond a block's estimate
 _UNCLOSABLE = []                 # files HDF5 failed to write: never closed
 
@@ -53,18 +56,21 @@ class GaugeStream:
     one buffer of rows, a column per dataset, written with the kept rows'
     blocks (or alone when it is full)."""
 
-    def __init__(self, f, names):
+    def __init__(self, growing, names, rows=BUFFER_ROWS):
         self.names = names
-        self.ids = [f[name].id for name in names]
-        self.n = f[names[0]].shape[0]
-        self.buffer = _touched((BUFFER_ROWS, len(names)), np.float64)
-        self.spare = _touched((BUFFER_ROWS, len(names)), np.float64)   # in flight
+        self.ids = [growing[name].id for name in names]
+        self.n = growing[names[0]].rows
+        rows = max(1, min(BUFFER_ROWS, rows))
+        self.buffer = _touched((rows, len(names)), np.float64)
+        self.spare = _touched((rows, len(names)), np.float64)   # in flight
         self.pending = 0
 
     @classmethod
-    def of(cls, f, names):
-        """The stream of ``names`` in ``f`` (None when there are none)."""
-        return cls(f, names) if names else None
+    def of(cls, growing, rows=BUFFER_ROWS):
+        """The stream of the gauge series among ``growing`` ({name: Grown}),
+        a buffer of at most ``rows`` rows (None when there are none)."""
+        names = [name for name in growing if layout.every_slab(name)]
+        return cls(growing, names, rows) if names else None
 
     def slot(self):
         """The next row to fill (a view of the buffer)."""
@@ -109,16 +115,12 @@ class EventRows:
     after the block's flush, as :class:`Completed`) for readers of a running
     file."""
 
-    def __init__(self, f, growing):
-        names = [name for name, _ in growing if layout.is_events(name)]
-        self.ids = {name: f[name].id for name in names}
-        self.n = {name: f[name].shape[0] for name in names}
+    def __init__(self, growing):
+        self.ids = {name: ds.id for name, ds in growing.items() if layout.is_events(name)}
+        self.n = {name: growing[name].rows for name in self.ids}
         self.pending = {}
-        for name in names:
-            if COMPLETE_ROWS not in f[name].attrs:
-                f[name].attrs.create(COMPLETE_ROWS, self.n[name], dtype=np.int64)
-        self.counts = {name: h5py.h5a.open(self.ids[name], COMPLETE_ROWS.encode())
-                       for name in names}
+        self.counts = {name: count_attr(dsid, COMPLETE_ROWS, self.n[name])
+                       for name, dsid in self.ids.items()}
 
     def add(self, name, rows):
         self.pending.setdefault(name, []).append(rows)
@@ -158,6 +160,7 @@ class Snapshots:
 
     def __init__(self, f):
         self.f, self.handles = f, {}
+        self.maker = Growing(f)
 
     def write(self, snapshots, slab):
         stamp = np.array(-1 if slab is None else slab, dtype=np.int64)
@@ -172,15 +175,18 @@ class Snapshots:
 
     def _dataset(self, name, shape):
         """(dataset id, id of its attribute ``slab``, shape) of snapshot
-        ``name``, (re)created when absent or of another shape."""
-        if name in self.f and self.f[name].shape != shape:
-            del self.f[name]
-        if name not in self.f:
-            self.f.create_dataset(name, shape=shape, dtype="f8")
-        ds = self.f[name]
-        if "slab" not in ds.attrs:
-            ds.attrs.create("slab", 0, dtype=np.int64)
-        return ds.id, h5py.h5a.open(ds.id, b"slab"), shape
+        ``name``, (re)created when absent or of another shape (through the
+        low level: a tiny run makes several, ~0.4 ms each through h5py's
+        high level)."""
+        dsid = None
+        if name in self.f:
+            dsid = self.f[name].id
+            if dsid.shape != shape:
+                del self.f[name]
+                dsid = None
+        if dsid is None:
+            dsid = self.maker.fixed(name, shape, "f8")
+        return dsid, count_attr(dsid, "slab", 0), shape
 
 
 class Completed:
@@ -193,11 +199,7 @@ class Completed:
     whose rows are all on disk."""
 
     def __init__(self, f):
-        for name in (COMPLETE_ROWS, COMPLETE_GAUGE_ROWS):
-            if name not in f.attrs:
-                f.attrs.create(name, 0, dtype=np.int64)
-        self.ids = [h5py.h5a.open(f.id, name.encode())
-                    for name in (COMPLETE_ROWS, COMPLETE_GAUGE_ROWS)]
+        self.ids = [count_attr(f.id, name, 0) for name in (COMPLETE_ROWS, COMPLETE_GAUGE_ROWS)]
 
     def write(self, rows, gauge_rows):
         """The gauge count first: a reader reads the kept-row count first,
@@ -214,7 +216,7 @@ class ResultWriter:
     Use :meth:`create` (a new file) or :meth:`reopen` (a restart).
     """
 
-    def __init__(self, f, lock, interval, fd):
+    def __init__(self, f, lock, interval, fd, growing=None, expected=None):
         self.f, self.lock, self.interval = f, lock, interval
         self.reserve = DiskReserve(fd)
         self.series, self.buffers = {}, {}
@@ -227,19 +229,25 @@ class ResultWriter:
         self.flushed_slab = None
         self.last_flush = time.monotonic()
         self.broken = False
-        # the file's growing datasets, walked once (a walk costs ~3 ms)
-        self.growing = _series_of(f)
-        self.gauges = GaugeStream.of(f, [n for n, _ in self.growing if layout.every_slab(n)])
-        self.events = EventRows(f, self.growing)
+        # the file's growing datasets {name: Grown}: those a new file
+        # was made with, or the walk of a reopened file (a walk costs ~3 ms)
+        self.growing = _series_of(f) if growing is None else growing
+        # buffers no longer than the run needs (``expected``: its kept rows
+        # and gauge rows at most): a tiny run's blocks are written at once,
+        # without the thread and the buffers' ~1 ms of memory (issue 29)
+        self.expected = expected or (BUFFER_ROWS, BUFFER_ROWS)
+        self.gauges = GaugeStream.of(self.growing, self.expected[1])
+        self.events = EventRows(self.growing)
         self.completed = Completed(f)
 
     @classmethod
     def create(cls, path, series, statics, groups, attrs, first_row, interval=0.5,
-               snapshots=None, events=()):
+               snapshots=None, events=(), expected=None):
         """A new file: written under a temporary name with ``first_row``
         (its gauge values included, and the ``snapshots`` of t = 0) and the
         empty ``events`` datasets, then renamed to ``path``; InputError if
-        it cannot be."""
+        it cannot be.  ``expected``: (kept rows, gauge rows) the run writes
+        at most (the first row included), if known."""
         lock = OutputLock(path)
         temp, f, fd, self = lock.new(), None, None, None
         try:
@@ -247,8 +255,8 @@ class ResultWriter:
             fd = os.open(temp, os.O_RDWR)
             header = sum(np.asarray(a).nbytes for a in statics.values())
             DiskReserve(fd).ensure(f.id.get_filesize(), header + MARGIN)
-            _header(f, series, statics, groups, attrs, events)
-            self = cls(f, lock, interval, fd)
+            growing = _header(f, series, statics, groups, attrs, events, expected)
+            self = cls(f, lock, interval, fd, growing, expected)
             self.append(first_row)
             if self.gauges:
                 self.gauges.slot()[:] = [first_row[n] for n in self.gauges.names]
@@ -270,9 +278,10 @@ class ResultWriter:
         return self
 
     @classmethod
-    def reopen(cls, lock, attrs, interval=0.5):
+    def reopen(cls, lock, attrs, interval=0.5, expected=None):
         """Append to an existing result file (a restart) whose
-        :class:`OutputLock` the caller holds (and hands over)."""
+        :class:`OutputLock` the caller holds (and hands over); ``expected``
+        as for :meth:`create`."""
         path = lock.path
         try:
             f = h5py.File(path, "a", locking=False)
@@ -281,7 +290,7 @@ class ResultWriter:
                 f.attrs[k] = v
             f.attrs["status"] = "running"
             f.attrs["restarts"] = int(f.attrs.get("restarts", 0)) + 1
-            self = cls(f, lock, interval, lock.fd)
+            self = cls(f, lock, interval, lock.fd, expected=expected)
             if self.gauges:         # the run continues from its last kept slab
                 rows = int(f["solver/slab"][-1]) + 1
                 self.completed.write(self.n, min(rows, self.gauges.n))    # before the cut
@@ -304,7 +313,8 @@ class ResultWriter:
         """(buffers {series name: array}, i): the caller fills row i of every
         buffer (the next kept row)."""
         if not self.series:
-            self.series, self.buffers, self.spare, self.capacity = _track(self.growing)
+            self.series, self.buffers, self.spare, self.capacity = \
+                _track(self.growing, self.expected[0])
         i = self.pending
         self.pending = i + 1
         return self.buffers, i
@@ -316,14 +326,15 @@ class ResultWriter:
         return self.pending > 0 and (self.pending == self.capacity or
                                      time.monotonic() - self.last_flush >= self.interval)
 
-    def flush(self, snapshots=None, slab=None, gauges_only=False):
+    def flush(self, snapshots=None, slab=None, gauges_only=False, then=None):
         """Write the buffered rows and ``snapshots`` ({name: array}, state
         at the last row, slab number ``slab``; arrays given away: the
         thread writes them while the run goes on), then flush HDF5: on a
         thread (:mod:`~vstpetsc.results.blocks`) when there are two sets
         of buffers, after the block before it, whose failure is raised
         here; with ``gauges_only`` the gauge rows alone, at once (a full
-        gauge buffer between kept rows)."""
+        gauge buffer between kept rows); ``then()``: more HDF5 writes that
+        go with the block's last flush (a closing run's status)."""
         self.settle()
         snapshots = snapshots or {}
         try:
@@ -337,24 +348,28 @@ class ResultWriter:
         if gauges_only:
             self._write(self.gauges.write, self.gauges.take())
         elif self.spare is None:
-            self._write(self._write_block, self._take(), snapshots, slab)
+            self._write(self._write_block, self._take(), snapshots, slab, then=then)
         else:
             block = self._take()
-            self.thread.start(lambda: self._write(self._write_block, block, snapshots, slab))
+            self.thread.start(lambda: self._write(self._write_block, block, snapshots, slab,
+                                                  then=then))
         self.last_flush = time.monotonic()
 
     def settle(self):
         """Until the block in flight is in the file; its OutputFailed."""
         self.thread.wait()
 
-    def _write(self, action, *args):
+    def _write(self, action, *args, then=None):
         """``action(*args)``, an HDF5 flush, the counts of complete rows
-        (:class:`Completed`) and a flush; an HDF5 error breaks the file."""
+        (:class:`Completed`), ``then()`` and a flush; an HDF5 error breaks
+        the file."""
         try:
             action(*args)
             self.f.flush()
             self.completed.write(self.n, self._gauge_rows())
             self.events.complete()
+            if then is not None:
+                then()
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             self.broken = True
@@ -396,21 +411,23 @@ class ResultWriter:
         {group: attributes} too), close the
         file, cut off the reserved tail and release the lock.  If the last
         block cannot be written the status becomes "failed" and the error
-        is raised after the file is closed."""
+        is raised after the file is closed.  The status goes with the last
+        block's last flush, after its rows are on disk (a flush less)."""
         error = None
+
+        def finish():
+            set_attrs(self.f, {"status": status, **attrs})
+            for group, values in (groups or {}).items():
+                set_attrs(self.f[group], values)
         if not self.broken:
             try:
-                self.flush(snapshots, slab)
+                self.flush(snapshots, slab, then=finish)
                 self.settle()
             except OutputFailed as exc:
                 error, status, attrs = exc, "failed", {"message": str(exc)}
-        if not self.broken:
+        if not self.broken and error is not None:       # the status of a failed block
             try:
-                self.f.attrs["status"] = status
-                for k, v in attrs.items():
-                    self.f.attrs[k] = v
-                for group, values in (groups or {}).items():
-                    self.f[group].attrs.update(values)
+                finish()
                 self.f.flush()
             except (OSError, RuntimeError, ValueError) as exc:
                 self.broken = True
@@ -422,24 +439,23 @@ class ResultWriter:
             raise error
 
 
-def _track(growing):
+def _track(growing, most=BUFFER_ROWS):
     """(series {name: (low-level handle, row shape, (chunk rows, chunk
     bytes))}, two sets of buffers {name: array}, rows a buffer holds) of
-    the series kept with the rows among ``growing`` (the (name, dataset)
-    of :func:`_series_of`) (h5py's high-level resize and
-    item assignment cost ~200 us a call); the second set is None when a
-    buffer holds fewer than THREAD_ROWS rows (huge rows: memory first,
-    and blocks are written at once)."""
+    the series kept with the rows among ``growing`` ({name:
+    Grown}), buffers of at most ``most`` rows (h5py's high-level resize
+    and item assignment cost ~200 us a call); the second set is None when a
+    buffer holds fewer than THREAD_ROWS rows (huge rows: memory first, and
+    a tiny run: blocks are written at once)."""
     series, buffers, capacity = {}, {}, None
-    for name, ds in growing:
+    for name, ds in growing.items():
         if layout.every_slab(name) or layout.is_events(name):
             continue
-        tail = ds.shape[1:]
-        width = max(1, int(np.prod(tail)))
-        rows = max(1, min(BUFFER_ROWS, BUFFER_VALUES // width))
-        chunk = (ds.chunks[0], int(np.prod(ds.chunks)) * ds.dtype.itemsize)
+        tail, dtype = ds.tail, ds.dtype
+        rows = max(1, min(BUFFER_ROWS, BUFFER_VALUES // max(1, math.prod(tail)), most))
+        chunk = (ds.chunks[0], math.prod(ds.chunks) * dtype.itemsize)
         series[name] = (ds.id, tail, chunk)
-        buffers[name] = _touched((rows,) + tail, ds.dtype)
+        buffers[name] = _touched((rows,) + tail, dtype)
         capacity = min(rows, capacity or rows)
     spare = None if capacity is not None and capacity < THREAD_ROWS else \
         {name: _touched(b.shape, b.dtype) for name, b in buffers.items()}
@@ -466,34 +482,45 @@ def _append(dsid, n, rows):
 
 
 def _series_of(f):
-    """(name, dataset) of every growing dataset of an open file."""
-    found = []
-    f.visititems(lambda name, obj: found.append((name, obj))
+    """{name: :class:`~vstpetsc.results.hdf5.Grown`} of every growing
+    dataset of an open file."""
+    found = {}
+    f.visititems(lambda name, obj: found.update({name: Grown.of(obj)})
                  if isinstance(obj, h5py.Dataset) and layout.grows(obj) else None)
     return found
 
 
-def _header(f, series, statics, groups, attrs, events=()):
-    f.attrs["status"] = "running"
-    f.attrs["version"] = __version__
-    for k, v in attrs.items():
-        f.attrs[k] = v
+def _header(f, series, statics, groups, attrs, events=(), expected=None):
+    """Write a new file's attributes, static datasets and groups and create
+    its growing datasets, chunks of :func:`chunk_rows` (``expected``: the
+    kept rows and gauge rows the run writes, if known); returns {name:
+    Grown} of those."""
+    set_attrs(f, {"status": "running", "version": __version__, **attrs})
     for name, data in statics.items():
         f.create_dataset(name, data=data)
     for group, group_attrs in groups.items():
-        g = f.require_group(group)
-        for k, v in group_attrs.items():
-            g.attrs[k] = v
+        set_attrs(f.require_group(group), group_attrs)
+    growing = Growing(f)
     for name, tail in series:
-        width = int(np.prod(tail)) if tail else 1
-        rows = max(1, min(4096, 65536 // width))
-        dtype = "i8" if name in layout.INTEGER_SERIES else "f8"
-        f.create_dataset(name, shape=(0,) + tail, maxshape=(None,) + tail,
-                         chunks=(rows,) + tail, dtype=dtype)
+        rows = expected and expected[1 if layout.every_slab(name) else 0]
+        growing.add(name, tail, chunk_rows(tail, rows),
+                    "i8" if name in layout.INTEGER_SERIES else "f8")
     for name in events:
-        f.create_dataset(name, shape=(0, 2), maxshape=(None, 2), chunks=(EVENT_CHUNK, 2),
-                         dtype="f8")
+        growing.add(name, (2,), EVENT_CHUNK, "f8")
     f.require_group(layout.CONTACT)
+    return growing.ids
+
+
+def chunk_rows(tail, rows=None):
+    """Rows of a chunk of a growing dataset of rows ``tail``: 512 kB at
+    most, 4096 rows at most, and for a run known to keep ``rows`` rows no
+    more than those rounded up to a power of two (at least CHUNK_FLOOR):
+    HDF5 writes whole chunks, and a tiny run's file was 2.5 MB of zeros.
+    A restart that continues a short run far keeps its small chunks."""
+    most = max(1, min(4096, 65536 // max(1, math.prod(tail))))
+    if rows is None:
+        return most
+    return min(most, max(CHUNK_FLOOR, 1 << max(0, int(rows) - 1).bit_length()))
 
 
 def _abandon(f, broken, fd=None):
