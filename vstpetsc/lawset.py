@@ -80,12 +80,14 @@ class LawSet:
         self.evaluate(self.P.T @ s)
         return self.P @ self.jac @ self.P.T
 
-    def hand_over(self, laws, batch):
-        """Let ``batch`` finish ``laws`` (a compiled path that keeps their
-        state in arrays, :class:`vstpetsc.native.smith_slab.SmithBank`)."""
+    def hand_over(self, laws, batch=None):
+        """Let ``batch`` (or the compiled slab itself, without one) finish
+        ``laws``: a compiled path that keeps their state in arrays
+        (:class:`vstpetsc.native.smith_slab.SmithSlab`)."""
         taken = {id(law) for law in laws}
         self.finished = [law for law in self.finished if id(law) not in taken]
-        self.batches.append(batch)
+        if batch is not None:
+            self.batches.append(batch)
 
     def finish_slab(self, t0, dt):
         for law in self.finished:

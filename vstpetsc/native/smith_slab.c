@@ -38,8 +38,9 @@ typedef struct {
     double *out;               /* (count, 7): f1 f2 t11 t12 t21 t22 slip at the end */
     int *hit;                  /* whether it acted at the last evaluation */
     const int *table;          /* its soil table */
-    double *impulse;           /* out (finish): f1 + f2 of the slab */
-    double *tally;             /* out (finish): per table, the work its nodes took */
+    double *impulse;           /* out: f1 + f2 of the slab */
+    int tables;
+    double *tally;             /* per table, the work its nodes took: running sums */
 } SmithNodes;
 
 #define SPANS 8                /* a cushion's pieces in a slab (at most 7) */
@@ -559,9 +560,39 @@ int vst_smith_start(SmithSlab *c)
     return any;
 }
 
+/* SoilNode.finish_slab for every Smith node: the impulse, the slip, the
+ * slab's work (f . y) summed per table, then added to its running sum;
+ * Cushion's M moves on where it pushed (its finish_slab in Python does the
+ * rest) */
+static void finish(SmithSlab *c)
+{
+    SmithNodes *s = &c->soil;
+    double slab[s->tables > 0 ? s->tables : 1];
+    for (int t = 0; t < s->tables; t++)
+        slab[t] = 0.0;
+    for (int i = 0; i < s->count; i++) {
+        const double *o = s->out + 7 * i;
+        int j = s->law[i];
+        if (!s->hit[i]) {
+            s->impulse[i] = 0.0;
+            continue;
+        }
+        s->impulse[i] = o[0] + o[1];
+        slab[s->table[i]] += o[0] * c->y[2 * j] + o[1] * c->y[2 * j + 1];
+        s->p[i] = o[6];
+    }
+    for (int t = 0; t < s->tables; t++)
+        s->tally[t] += slab[t];
+    Cushions *cu = &c->cushions;
+    for (int i = 0; i < cu->count; i++)
+        if (cu->hit[i])
+            cu->M[i] = cu->out[7 * i + 6];
+}
+
 /* The slab after vst_smith_start (``ran``: whether a law acts): the start
- * guess, Newton and the work.  Returns 0 (converged, or nothing acts),
- * 1 (not converged). */
+ * guess, Newton, the work, the laws' terms into X, the Smith nodes' and
+ * cushions' finish.  Returns 0 (converged, or nothing acts), 1 (not
+ * converged). */
 int vst_smith_solve(SmithSlab *c)
 {
     SmithNodes *s = &c->soil;
@@ -572,6 +603,7 @@ int vst_smith_solve(SmithSlab *c)
         for (int i = 0; i < c->cushions.count; i++)
             c->cushions.hit[i] = 0;
         memset(c->f, 0, n * sizeof(double));
+        finish(c);
         return 0;
     }
     if (c->acted) {
@@ -588,12 +620,20 @@ int vst_smith_solve(SmithSlab *c)
         c->work[j] = c->f[2 * j] * c->y[2 * j] + c->f[2 * j + 1] * c->y[2 * j + 1];
         c->key_work[c->key[j]] += c->work[j];
     }
-    /* the laws' terms into the solution: X -= A^{-1} C f */
-    scatter(c, c->f, c->g);
-    bands_solve(c->N, c->A, c->Ainv, c->ACp, c->g, c->sol);
+    /* the laws' terms into the solution: X -= A^{-1} C f, which the last
+     * residual (at the solution: Newton stops right after one) left in sol */
     for (long i = 0; i < 2 * c->N; i++)
         c->X[i] -= c->sol[i];
+    finish(c);
     return code;
+}
+
+/* The whole slab when every law is compiled (no callback): the start, the
+ * test, the solve */
+int vst_smith_slab(SmithSlab *c)
+{
+    c->ran = vst_smith_start(c);
+    return vst_smith_solve(c);
 }
 
 static void carry(SmithSlab *c);
@@ -631,26 +671,6 @@ static void carry(SmithSlab *c)
                 c->b[2 * node + 1] += c->lsign[2 * j + a] * w[1];
             }
         }
-    }
-}
-
-/* SoilNode.finish_slab for every Smith node: the impulse, the slip, the
- * work (f . y) added per table into tally (zeroed here first). */
-void vst_smith_finish(SmithSlab *c, int tables)
-{
-    SmithNodes *s = &c->soil;
-    for (int t = 0; t < tables; t++)
-        s->tally[t] = 0.0;
-    for (int i = 0; i < s->count; i++) {
-        const double *o = s->out + 7 * i;
-        int j = s->law[i];
-        if (!s->hit[i]) {
-            s->impulse[i] = 0.0;
-            continue;
-        }
-        s->impulse[i] = o[0] + o[1];
-        s->tally[s->table[i]] += o[0] * c->y[2 * j] + o[1] * c->y[2 * j + 1];
-        s->p[i] = o[6];
     }
 }
 

@@ -23,7 +23,7 @@ class _Nodes(ctypes.Structure):
 
     _fields_ = [("count", ctypes.c_int)] + [(name, _P) for name in (
         "law", "uidx", "sign", "Ru", "k", "J", "toe", "wn", "p", "out", "hit", "table",
-        "impulse", "tally")]
+        "impulse")] + [("tables", ctypes.c_int), ("tally", _P)]
 
 
 class _Cushions(ctypes.Structure):
@@ -66,13 +66,11 @@ class SmithSlab:
                  max_it=30):
         """``keys``: each law's energy term; ``heads``: [(law, sign, node
         among the LawSet's)] whose work on that node is reported."""
-        for name in ("vst_smith_start", "vst_smith_solve"):
+        for name in ("vst_smith_start", "vst_smith_solve", "vst_smith_slab"):
             getattr(lib, name).argtypes = [_P]
             getattr(lib, name).restype = ctypes.c_int
         lib.vst_smith_advance.argtypes = [_P, ctypes.c_int]
         lib.vst_smith_advance.restype = ctypes.c_double
-        lib.vst_smith_finish.argtypes = [_P, ctypes.c_int]
-        lib.vst_smith_finish.restype = None
         self.bank = soil = SmithBank(lawset)
         lib.vst_smith_factor_a.argtypes = [_P, ctypes.c_long, _P, _P]
         lib.vst_smith_factor_a.restype = None
@@ -119,7 +117,7 @@ class SmithSlab:
             if kind is _P:
                 setattr(self.ctx, name, arrays[name].ctypes.data)
         self.ref = ctypes.addressof(self.ctx)
-        soil.finish = lambda tables: lib.vst_smith_finish(self.ref, tables)
+        self.synced = False
         self.f, self.work, self.y = lawset.f, arrays["work"], arrays["y"]
         self.iterations = 0
 
@@ -140,29 +138,38 @@ class SmithSlab:
 
     def run(self, acted, dt, t0, slab_index):
         """The slab from the law-free solution (the solver's array, updated
-        in place) and the terms ``f_prev`` of the previous slab: whether a
-        law acts."""
-        self.soil.sync()
-        self.cushions.before()
-        ran = self.lib.vst_smith_start(self.ref)
+        in place) and the terms ``f_prev`` of the previous slab, the Smith
+        nodes' and the cushions' finish included: whether a law acts."""
+        if not self.synced:
+            self.soil.sync()
+            self.cushions.sync()
+            self.synced = True
+        self.ctx.acted = acted
         if self.others:
-            y0 = self.a["y0"].tolist()
-            for j in self.others:
-                law = self.laws[j]
-                law.start_slab(self.lawset.u[self.lawset.node_index[j]], dt)
-                law.start_time(t0)
-            if not ran:
-                ran = any(self.laws[j].acts(y0[2 * j], y0[2 * j + 1]) for j in self.others)
-            if not ran and acted:         # their last evaluation: nothing in this slab
-                self.a["yeval"][:] = self.a["y0"]
-                self._evaluate_others()
-        self.ctx.ran, self.ctx.acted = int(bool(ran)), int(acted)
-        code = self.lib.vst_smith_solve(self.ref)
+            code = self._run_with_others(acted, dt, t0)
+        else:
+            code = self.lib.vst_smith_slab(self.ref)
         self.cushions.after()
         if code != 0:
             raise not_converged(slab_index, self.max_it, self.ctx.norm)
         self.iterations = self.ctx.iterations
-        return bool(ran)
+        return bool(self.ctx.ran)
+
+    def _run_with_others(self, acted, dt, t0):
+        """run() with laws evaluated in Python: their start and test
+        between the compiled start and solve."""
+        ran = self.lib.vst_smith_start(self.ref)
+        y0 = self.a["y0"].tolist()
+        for j, law in self.other_laws:
+            law.start_slab(self.lawset.u[self.lawset.node_index[j]], dt)
+            law.start_time(t0)
+        if not ran:
+            ran = any(law.acts(y0[2 * j], y0[2 * j + 1]) for j, law in self.other_laws)
+        if not ran and acted:         # their last evaluation: nothing in this slab
+            self.a["yeval"][:] = self.a["y0"]
+            self._evaluate_others()
+        self.ctx.ran = int(bool(ran))
+        return self.lib.vst_smith_solve(self.ref)
 
     def advance(self, acted):
         """LawSolver.advance: the laws' displacements; after an acting slab
@@ -177,8 +184,9 @@ class SmithSlab:
 
 class SmithBank:
     """The Smith nodes' state as arrays for the compiled slab, which starts
-    and finishes them (their ``start_slab`` and ``finish_slab``); the slips
-    and impulses go back to the laws when their tables' reports read them."""
+    and finishes them (their ``start_slab`` and ``finish_slab``); the slips,
+    impulses and the tables' work go back to the laws and reports when a
+    report reads them."""
 
     def __init__(self, lawset):
         from vstpetsc.laws.soil import SoilNode
@@ -186,7 +194,7 @@ class SmithBank:
         js = [j for j, law in enumerate(lawset.laws) if type(law) is SoilNode]
         self.laws = laws = [lawset.laws[j] for j in js]
         reports = list({id(law.report): law.report for law in laws}.values())
-        self.tallies = [report.tally for report in reports]
+        self.reports = reports
         n = len(laws)
         self.a = {"law": np.array(js, dtype=np.intc),
                   "uidx": np.array([int(lawset.node_index[j][0]) for j in js], dtype=np.int64),
@@ -200,30 +208,31 @@ class SmithBank:
                   "impulse": np.zeros(n), "tally": np.zeros(len(reports))}
         for report in reports:
             report.before_read = self.write_back
-        self.finish = None              # the compiled finish (set by SmithSlab)
         self.synced = False
 
     def struct(self):
         a = self.a
-        return _Nodes(len(self.laws), *(a[name].ctypes.data for name, _ in _Nodes._fields_[1:]))
+        nodes = _Nodes(count=len(self.laws), tables=len(self.reports))
+        for name, kind in _Nodes._fields_:
+            if kind is _P:
+                setattr(nodes, name, a[name].ctypes.data)
+        return nodes
 
     def sync(self):
-        """The slips from the laws, once (after a restart has set them)."""
-        if not self.synced:
-            self.a["p"][:] = [law.p for law in self.laws]
-            self.synced = True
-
-    def finish_slab(self, t0, dt):
-        """SoilNode.finish_slab for every node at once (compiled)."""
-        self.finish(len(self.tallies))
-        for tally, add in zip(self.tallies, self.a["tally"].tolist()):
-            tally[0] += add
+        """The slips and the tables' work from the laws, at the first slab
+        (after a restart has set them)."""
+        self.a["p"][:] = [law.p for law in self.laws]
+        self.a["tally"][:] = [report.tally[0] for report in self.reports]
+        self.synced = True
 
     def write_back(self):
-        """The slips and impulses into the laws (before a report reads them)."""
+        """The slips, impulses and the tables' work into the laws and
+        reports (before a report reads them)."""
         if self.synced:
             for law, p, i in zip(self.laws, self.a["p"].tolist(), self.a["impulse"].tolist()):
                 law.p, law.impulse = p, i
+            for report, tally in zip(self.reports, self.a["tally"].tolist()):
+                report.tally[0] = tally
 
 
 class CushionBank:
@@ -254,21 +263,25 @@ class CushionBank:
         return _Cushions(len(self.laws), *(a[name].ctypes.data
                                            for name, _ in _Cushions._fields_[1:]))
 
-    def before(self):
-        if self.laws:
-            self.a["M"][:] = [law.M for law in self.laws]
+    def sync(self):
+        """Their M from the laws, at the first slab (after a restart)."""
+        self.a["M"][:] = [law.M for law in self.laws]
 
     def after(self):
-        """What Cushion.start_slab and force leave on the laws."""
+        """What Cushion.start_slab and force leave on the laws (their M
+        moves on in C as in their finish_slab)."""
+        if not self.laws:
+            return
         a = self.a
-        out, spans = a["out"].reshape(-1, 7), a["spans"].reshape(-1, SPANS, 2)
+        gn, M, hit = a["gn"].tolist(), a["M"].tolist(), a["hit"].tolist()
         for i, law in enumerate(self.laws):
-            law.gn, law.M = float(a["gn"][i]), float(a["M"][i])
-            if not a["hit"][i]:
+            law.gn, law.M = gn[i], M[i]
+            if not hit[i]:
                 law.last = None
                 continue
-            pieces = [tuple(p) for p in spans[i, :a["nspans"][i]].tolist()]
-            law.last = (*out[i].tolist(), pieces)
+            out = a["out"][7 * i:7 * i + 7].tolist()
+            spans = a["spans"][2 * SPANS * i:2 * SPANS * i + 2 * a["nspans"][i]].tolist()
+            law.last = (*out, list(zip(spans[::2], spans[1::2])))
 
 
 def takes(lawset, comm_size):

@@ -85,7 +85,7 @@ class LawSolver:
         in a bank that finishes them; the work summed per energy term."""
         slab = smith_slab.SmithSlab(native.library(), self.laws, solver, self.f, self.keys,
                                     self.heads, **tolerances)
-        self.laws.hand_over(slab.bank.laws, slab.bank)
+        self.laws.hand_over(slab.bank.laws)
         return slab
 
     def solve(self, X, b, dt, slab_index):
