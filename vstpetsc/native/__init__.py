@@ -44,7 +44,9 @@ class _Slab(ctypes.Structure):
 
     _fields_ = [("nodes", ctypes.c_int), ("acted", ctypes.c_int), ("u", _P), ("node", _P),
                 ("sign", _P), ("g0", _P), ("R0", _P), ("xE", _P), ("f_prev", _P),
-                ("work", _P), ("ran", ctypes.c_int)]
+                ("work", _P), ("ran", ctypes.c_int), ("serial", ctypes.c_int), ("x", _P),
+                ("b", _P), ("local", _P), ("carry", _P), ("groups", ctypes.c_int),
+                ("span", _P), ("first", _P), ("cols", _P), ("Z", _P)]
 
 
 def library():
@@ -57,6 +59,8 @@ def library():
             lib.vst_penalty_newton.restype = ctypes.c_int
             lib.vst_penalty_slab.argtypes = [_P, _P]
             lib.vst_penalty_slab.restype = ctypes.c_int
+            lib.vst_penalty_advance.argtypes = [_P, _P, ctypes.c_int]
+            lib.vst_penalty_advance.restype = None
             for name, args in (("vst_close", [_P]),
                                ("vst_rows_copy", [_P, ctypes.c_int, ctypes.c_long])):
                 getattr(lib, name).argtypes = args
@@ -144,6 +148,37 @@ class PenaltySlab(NativeNewton):
         self.slab = _Slab(lawset.nodes.size, 0, *(a.ctypes.data for a in (
             self.u, node, sign, self.g0, self.R0, self.xE, self.f_prev, self.work)), 0)
         self.slab_ref = ctypes.addressof(self.slab)
+        self.bound = self.serial = False
+
+    def bind(self, coupling, influence, b):
+        """On one rank (``coupling.local`` set): the calls read x_E from the
+        solver's array, subtract the pairs' influence (``influence``, a
+        LawInfluence) and close the slab (:meth:`advance`) on it and on
+        ``b`` (the running right-hand side's array) themselves."""
+        self.bound = True
+        if coupling.local is None:
+            return
+        ints = [np.ascontiguousarray(a, dtype=np.intc) for a in (
+            coupling.local, [i for span in influence.spans for i in span],
+            np.cumsum([0] + [cols.size for *_, cols in influence.groups]),
+            np.concatenate([cols for *_, cols in influence.groups] or [[]]))]
+        carry = np.ascontiguousarray(coupling.carry_rows, dtype=np.float64)
+        Z = (ctypes.c_void_p * len(influence.columns))(
+            *(z.ctypes.data for z in influence.columns))
+        # the arrays the struct points into live as long as it does
+        self._bound = (ints, carry, Z, coupling.array, b, influence.columns)
+        slab = self.slab
+        slab.x, slab.b = coupling.array.ctypes.data, b.ctypes.data
+        slab.local, slab.span, slab.first, slab.cols = (a.ctypes.data for a in ints)
+        slab.carry, slab.groups, slab.Z = carry.ctypes.data, len(influence.groups), \
+            ctypes.addressof(Z)
+        slab.serial = 1
+        self.serial = True
+
+    def advance(self, acted):
+        """After :meth:`bind`: the pairs' displacements += z_2, and b
+        += carry f (their terms carried over) when ``acted``."""
+        self.lib.vst_penalty_advance(self.ref, self.slab_ref, int(acted))
 
     def run(self, acted, slab_index):
         """Solve the slab for the unknowns in ``xE`` (filled by the caller)

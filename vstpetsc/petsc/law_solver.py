@@ -80,7 +80,7 @@ class LawSolver:
         """Newton if a law acts for the law-free solution X (updated in
         place); returns the Newton iterations."""
         if isinstance(self.newton, native.PenaltySlab):
-            return self._solve_compiled(X, slab_index)
+            return self._solve_compiled(X, b, slab_index)
         laws = self.laws
         laws.start_slab(dt, (slab_index - 1) * dt)
         y0 = self.coupling.coordinates(X)
@@ -112,15 +112,20 @@ class LawSolver:
                     self.work[part] += value
         return self.newton.iterations
 
-    def _solve_compiled(self, X, slab_index):
+    def _solve_compiled(self, X, b, slab_index):
         """solve() for penalty pairs: one call for the slab's start, test,
-        guess, Newton and work (:class:`vstpetsc.native.PenaltySlab`)."""
+        guess, Newton and work (:class:`vstpetsc.native.PenaltySlab`); on
+        one rank it reads X and subtracts the pairs' influence itself."""
         step = self.newton
-        self.coupling.unknowns(X, step.xE)
+        if not step.bound:
+            step.bind(self.coupling, self.influence, b.getArray())
+        if not step.serial:
+            self.coupling.unknowns(X, step.xE)
         if not step.run(self.acted, slab_index):
             self.acted = False
             return 0
-        self.influence.subtract(step.f)
+        if not step.serial:
+            self.influence.subtract(step.f)
         self.f[:] = step.f
         self.acted = True
         for key, work in zip(self.keys, step.work.tolist()):
@@ -130,11 +135,14 @@ class LawSolver:
     def advance(self, X, b):
         """Close the slab: the laws' displacements, their terms carried over
         in the running sum b."""
-        self.laws.u += self.coupling.increments(X)
-        if self.acted:
-            self.coupling.gather.add_rows(b, self.coupling.carry_rows @ self.f)
-            if self.heads:
-                self._transfer(X)
+        if getattr(self.newton, "serial", False):         # a bound PenaltySlab
+            self.newton.advance(self.acted)
+        else:
+            self.laws.u += self.coupling.increments(X)
+            if self.acted:
+                self.coupling.gather.add_rows(b, self.coupling.carry_rows @ self.f)
+        if self.acted and self.heads:
+            self._transfer(X)
 
     def _transfer(self, X):
         """The slab's work of the marked laws on their node: the node
