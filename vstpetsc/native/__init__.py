@@ -46,7 +46,8 @@ class _Slab(ctypes.Structure):
                 ("sign", _P), ("g0", _P), ("R0", _P), ("xE", _P), ("f_prev", _P),
                 ("work", _P), ("ran", ctypes.c_int), ("serial", ctypes.c_int), ("x", _P),
                 ("b", _P), ("local", _P), ("carry", _P), ("groups", ctypes.c_int),
-                ("span", _P), ("first", _P), ("cols", _P), ("Z", _P)]
+                ("span", _P), ("first", _P), ("cols", _P), ("Z", _P), ("pieces", _P),
+                ("ends", _P)]
 
 
 def library():
@@ -116,6 +117,7 @@ class NativeNewton:
         integrals, hit, y = self.integrals.tolist(), self.hit.tolist(), self.y.tolist()
         for j, law in enumerate(self.laws):
             law.last = tuple(integrals[6 * j:6 * j + 6]) if hit[j] else None
+            law.pieces = None      # PenaltySlab.run gives them; finish_slab finds them
             if hit[j]:      # the converged rates: the pair's events (finish_slab)
                 law.rates = (y[2 * j], y[2 * j + 1])
         if code != 0:
@@ -149,6 +151,9 @@ class PenaltySlab(NativeNewton):
             self.u, node, sign, self.g0, self.R0, self.xE, self.f_prev, self.work)), 0)
         self.slab_ref = ctypes.addressof(self.slab)
         self.bound = self.serial = False
+        # each pair's pieces of the slab where it acts (its finish_slab's)
+        self.pieces, self.ends = np.zeros(L, dtype=np.intc), np.zeros(6 * L)
+        self.slab.pieces, self.slab.ends = self.pieces.ctypes.data, self.ends.ctypes.data
 
     def bind(self, coupling, influence, b):
         """On one rank (``coupling.local`` set): the calls read x_E from the
@@ -195,4 +200,8 @@ class PenaltySlab(NativeNewton):
                     law.last = None
             return False
         self._finish(code, slab_index)
+        ends = self.ends.tolist()
+        for j, (law, m) in enumerate(zip(self.laws, self.pieces.tolist())):
+            if m:
+                law.pieces = [(ends[6 * j + 2 * i], ends[6 * j + 2 * i + 1]) for i in range(m)]
         return True

@@ -402,7 +402,54 @@ typedef struct {
     const int *first;          /* (groups + 1) its columns: cols[first[g] .. first[g + 1]) */
     const int *cols;
     const double *const *Z;    /* (2L) the columns Zred over x */
+    int *pieces;               /* out: (L) how many pieces of the slab each pair acted on */
+    double *ends;              /* out: (6L) their (p, q) in [0, 1] (PenaltyContact.finish_slab) */
 } Slab;
+
+/* vstpetsc.laws.gap.active_intervals: the pieces (p, q) of [0, 1] where
+ * g < 0 into pq (at most three), touching ones joined; returns their count */
+static int active_intervals(const double *a, double *pq)
+{
+    double e[4], r[2];
+    int m, n = 0;
+    if (closed_throughout(a[0], a[1], a[2])) {
+        pq[0] = 0.0;
+        pq[1] = 1.0;
+        return 1;
+    }
+    m = roots01(a[0], a[1], a[2], r);
+    e[0] = 0.0;
+    for (int i = 0; i < m; i++)
+        e[i + 1] = r[i];
+    e[m + 1] = 1.0;
+    for (int i = 0; i <= m; i++) {
+        double p = e[i], q = e[i + 1], mid = p + 0.5 * (q - p);
+        if (!(q > p && a[0] + mid * (a[1] + mid * a[2]) < 0.0))
+            continue;
+        if (n > 0 && pq[2 * n - 1] == p) {
+            pq[2 * n - 1] = q;
+        } else {
+            pq[2 * n] = p;
+            pq[2 * n + 1] = q;
+            n++;
+        }
+    }
+    return n;
+}
+
+/* Each acting pair's pieces of the slab at its converged rates y */
+static void pair_pieces(const Newton *c, Slab *s)
+{
+    for (int j = 0; j < c->laws; j++) {
+        double a[3];
+        if (!c->hit[j]) {
+            s->pieces[j] = 0;
+            continue;
+        }
+        gap_coefficients(c->gn[j], c->y[2 * j], c->y[2 * j + 1], c->dt, a);
+        s->pieces[j] = active_intervals(a, s->ends + 6 * j);
+    }
+}
 
 /* x[lo, hi) += a_0 Z_0 + ... + a_{m-1} Z_{m-1}, the sums grouped as
  * PETSc's VecMAXPY_Seq groups them (the remainder of m / 4 first, then
@@ -501,7 +548,10 @@ int vst_penalty_slab(Newton *c, Slab *s)
     int code = vst_penalty_newton(c, s->acted);
     for (int j = 0; j < L; j++)
         s->work[j] = c->f[2 * j] * c->y[2 * j] + c->f[2 * j + 1] * c->y[2 * j + 1];
-    if (code == 0 && s->serial)
+    if (code != 0)
+        return code;
+    pair_pieces(c, s);
+    if (s->serial)
         subtract_influence(s, c->f);
-    return code;
+    return 0;
 }
