@@ -112,14 +112,22 @@ class NativeNewton:
         code = self.lib.vst_penalty_newton(self.ref, start is not None)
         return self._finish(code, slab_index)
 
-    def _finish(self, code, slab_index):
-        """The outputs of the C Newton into the LawSet and the pairs."""
+    def _finish(self, code, slab_index, ends=None):
+        """The outputs of the C Newton into the LawSet and the pairs (with
+        ``ends``, PenaltySlab's, their gaps at t^n and pieces too)."""
         integrals, hit, y = self.integrals.tolist(), self.hit.tolist(), self.y.tolist()
+        gn, count = (self.gn.tolist(), self.pieces.tolist()) if ends else (None, None)
         for j, law in enumerate(self.laws):
-            law.last = tuple(integrals[6 * j:6 * j + 6]) if hit[j] else None
-            law.pieces = None      # PenaltySlab.run gives them; finish_slab finds them
+            if gn:
+                law.gn = gn[j]
             if hit[j]:      # the converged rates: the pair's events (finish_slab)
+                law.last = tuple(integrals[6 * j:6 * j + 6])
                 law.rates = (y[2 * j], y[2 * j + 1])
+                # PenaltySlab gives its pieces of the slab, else finish_slab finds them
+                law.pieces = [(ends[6 * j + 2 * i], ends[6 * j + 2 * i + 1])
+                              for i in range(count[j])] if ends else None
+            else:
+                law.last = law.pieces = None
         if code != 0:
             raise not_converged(slab_index, self.max_it, self.ctx.norm)
         self.iterations = self.ctx.iterations
@@ -144,7 +152,8 @@ class PenaltySlab(NativeNewton):
         self.g0 = np.array([law.g0 for law in self.laws], dtype=np.float64)
         self.R0 = np.ascontiguousarray(R0, dtype=np.float64)
         self.xE = np.zeros(self.R0.shape[1])
-        # the caller's terms of the previous slab, read in place
+        # the caller's terms of the previous slab, read in place (and a slab's
+        # that acts written there)
         self.f_prev, self.work = f_prev, np.zeros(L)
         self.u = lawset.u                      # updated in place by the LawSolver
         self.slab = _Slab(lawset.nodes.size, 0, *(a.ctypes.data for a in (
@@ -186,22 +195,18 @@ class PenaltySlab(NativeNewton):
         self.lib.vst_penalty_advance(self.ref, self.slab_ref, int(acted))
 
     def run(self, acted, slab_index):
-        """Solve the slab for the unknowns in ``xE`` (filled by the caller)
-        from the terms ``f_prev`` of the previous slab: whether a pair
-        acts; the LawSet's ``f``, the pairs' ``last`` integrals, ``y`` and
+        """Solve the slab for the unknowns in ``xE`` (filled by the caller,
+        or read from x after :meth:`bind`) from the terms ``f_prev`` of the
+        previous slab: whether a pair acts; the LawSet's ``f`` and
+        ``f_prev``, the pairs' ``last`` integrals and pieces, ``y`` and
         ``work`` are then the slab's."""
-        self.slab.acted = int(acted)
+        self.slab.acted = acted
         code = self.lib.vst_penalty_slab(self.ref, self.slab_ref)
+        if self.slab.ran:
+            self._finish(code, slab_index, self.ends.tolist())
+            return True
         for law, gap in zip(self.laws, self.gn.tolist()):     # the pairs' start_slab
             law.gn = gap
-        if not self.slab.ran:
             if acted:              # the pairs' last evaluation: nothing in this slab
-                for law in self.laws:
-                    law.last = None
-            return False
-        self._finish(code, slab_index)
-        ends = self.ends.tolist()
-        for j, (law, m) in enumerate(zip(self.laws, self.pieces.tolist())):
-            if m:
-                law.pieces = [(ends[6 * j + 2 * i], ends[6 * j + 2 * i + 1]) for i in range(m)]
-        return True
+                law.last = None
+        return False

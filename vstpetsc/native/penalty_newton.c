@@ -387,7 +387,7 @@ typedef struct {
     const double *g0;          /* (L) initial gaps */
     const double *R0;          /* (2L x 2k) y = R0 x_E */
     double *xE;                /* (2k) the slab's unknowns at the pairs' dofs */
-    const double *f_prev;      /* (2L) the pairs' terms of the previous slab */
+    double *f_prev;            /* (2L) the pairs' terms of the previous slab; out: this one's */
     double *work;              /* out: (L) f . y of each pair */
     int ran;                   /* out: whether a pair acts (Newton ran) */
     /* on one rank (serial): the solver's arrays, read and written here
@@ -551,6 +551,7 @@ int vst_penalty_slab(Newton *c, Slab *s)
     if (code != 0)
         return code;
     pair_pieces(c, s);
+    memcpy(s->f_prev, c->f, n * sizeof(double));
     if (s->serial)
         subtract_influence(s, c->f);
     return 0;

@@ -126,8 +126,7 @@ class LawSolver:
             return 0
         if not step.serial:
             self.influence.subtract(step.f)
-        self.f[:] = step.f
-        self.acted = True
+        self.acted = True               # (the call wrote the slab's terms into self.f)
         for key, work in zip(self.keys, step.work.tolist()):
             self.work[key] += work
         return step.iterations
