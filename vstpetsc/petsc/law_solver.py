@@ -134,8 +134,8 @@ class LawSolver:
     def advance(self, X, b):
         """Close the slab: the laws' displacements, their terms carried over
         in the running sum b."""
-        if getattr(self.newton, "serial", False):         # a bound PenaltySlab
-            self.newton.advance(self.acted)
+        if isinstance(self.newton, native.PenaltySlab) and self.newton.serial:
+            self.newton.advance(self.acted)      # bound to the solver's arrays
         else:
             self.laws.u += self.coupling.increments(X)
             if self.acted:
