@@ -12,7 +12,11 @@ over the middle of the run, so start-up and the last block do not count):
   pair, closed over the whole slab (one Newton iteration);
 - impact: the same at c dt/h = 1 (the bundled examples' ratio): the
   contact node chatters, the gap opens and closes inside slabs (three to
-  four Newton iterations).
+  four Newton iterations);
+- soil: the bar driven into Smith soil (v0 = 1 m/s, c dt/h = 0.5; R_u =
+  20 MN, 30 % at its right end's toe, the shaft on its last ten elements
+  whatever their size, so the soil's nodes are as many at every size): the
+  soil acts in every slab.
 
 Used by bench/run.py.
 """
@@ -36,7 +40,9 @@ from vstpetsc.petsc.slab_solver import SlabSolver
 
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CASES = {"free": 0.5, "held": 0.5, "impact": 1.0}       # name: c dt / h
+CASES = {"free": 0.5, "held": 0.5, "impact": 1.0, "soil": 0.5}       # name: c dt / h
+SOIL_ELEMENTS = 10          # the soil's shaft: the bar's last elements
+SOIL_SLABS = 2000           # at most (its Newton runs in Python: ~1-3 ms a slab)
 
 
 def case_text(kind, elements, slabs):
@@ -45,6 +51,11 @@ def case_text(kind, elements, slabs):
     if kind == "free":
         return text + ("v0 = [[0.0, 0.0], [1.0, 1.0]]\n"
                        "[[bc]]\nbody = \"bar\"\nend = \"left\"\ntype = \"fixed\"\n")
+    if kind == "soil":
+        top = 1.0 - SOIL_ELEMENTS / elements
+        return text + ("v0 = 1.0\n[[soil]]\nbody = \"bar\"\ncapacity = 2.0e7\ntoe_share = 0.3\n"
+                       f"shaft = {{ quake = 2.5e-3, damping = 0.16, from = {top!r}, to = 1.0 }}\n"
+                       "toe = { quake = 2.5e-3, damping = 0.5, end = \"right\" }\n")
     return text + ("v0 = 1.0\n[[contact]]\npair = [\"bar\", \"wall\"]\nwall = 1.0\n"
                    "[[contact]]\npair = [\"wall\", \"bar\"]\nwall = 0.0\n")
 
@@ -65,12 +76,13 @@ def floor(text, solves=200, reps=5):
     return min(times), statistics.median(times)
 
 
-def per_slab(path, contact):
+def per_slab(path, contact, law=False):
     """(seconds per slab, mean Newton iterations, share of slabs with an
     active law) over the middle 80 % of a result file's slabs; for a
     contact case over its slabs where a pair carries a force only (a
     pair may let go for a while as the waves pass; a steady contact may
-    need no Newton step: its guess from the slab before already holds)."""
+    need no Newton step: its guess from the slab before already holds);
+    ``law``: a law must act (Newton) in most slabs."""
     with h5py.File(path, "r", locking=False) as f:
         wall = f["solver/wall_time"][...]
         newton = f["solver/newton_iterations"][...]
@@ -81,6 +93,8 @@ def per_slab(path, contact):
     step = np.diff(wall)[a - 1:b - 1]          # slab i's time: wall[i] - wall[i - 1]
     its, on = newton[a:b], acting[a:b]
     active = float(np.mean(on))
+    if law and active < 0.5:
+        raise RuntimeError(f"{path}: a law acts in only {100 * active:.0f} % of slabs")
     if not contact:
         return float(step.mean()), float(its.mean()), active
     if active < 0.5:
@@ -110,7 +124,7 @@ def overhead(kind, elements, slabs, reps=5, options=()):
     with tempfile.TemporaryDirectory() as folder:
         for _ in range(reps):
             _, out = run_once(folder, text, options)
-            t, newton, active = per_slab(out, kind != "free")
+            t, newton, active = per_slab(out, kind in ("held", "impact"), kind == "soil")
             times.append(t)
     lo, mid = floor(text)
     name = kind + (f" ({' '.join(options)})" if options else "")
@@ -136,5 +150,7 @@ def slabs_for(kind, elements, quick):
     the middle of the run (fewer when quick); output every slab makes 24
     bytes a node a slab, so at 10 000 elements 3000 slabs write 720 MB."""
     if quick:
-        return 2000 if elements <= 100 else 600
-    return int(min(30_000, max(3000, 3e6 / elements)))
+        slabs = 2000 if elements <= 100 else 600
+    else:
+        slabs = int(min(30_000, max(3000, 3e6 / elements)))
+    return min(slabs, SOIL_SLABS) if kind == "soil" else slabs

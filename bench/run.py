@@ -52,7 +52,8 @@ def measure_overhead(quick):
             rows.append(row)
             print(f"overhead {kind} {n}: {row['ratio']:.1f} x floor", flush=True)
     # the Python path, for comparison (quick: the small size only)
-    python = [(kind, 100) for kind in overhead.CASES] + ([] if quick else [("free", sizes[-1])])
+    python = [(kind, 100) for kind in ("free", "held", "impact")] + \
+        ([] if quick else [("free", sizes[-1])])
     for kind, n in python:
         rows.append(overhead.overhead(kind, n, overhead.slabs_for(kind, n, quick), reps,
                                       options=("-vst_native", "0")))
@@ -254,14 +255,16 @@ def overhead_section(res):
         "the table. Cases (bench/overhead.py): free = clamped bar vibrating, c dt/h "
         "= 0.5; held = bar between two walls at zero gap, pressing on one or the "
         "other in every slab, c dt/h = 0.5; impact = the same at c dt/h = 1 (the "
-        "contact node chatters, the gap opens and closes inside slabs). Rows marked "
-        "(-vst_native 0) ran the Python path instead of the compiled kernels (the "
-        "penalty pairs' Newton, the end of a slab).",
+        "contact node chatters, the gap opens and closes inside slabs); soil = the bar "
+        "driven at 1 m/s into Smith soil on its last ten elements and its toe (the soil "
+        "acts in every slab; at most 2000 slabs). A goal is met when both the minimum "
+        "and the median ratio meet it. Rows marked (-vst_native 0) ran the Python path "
+        "instead of the compiled kernels (the penalty pairs' slab, the end of a slab).",
         ("case", "elements", "slabs", "slab [us] min / median", "floor [us] min / median",
          "ratio min / median", "goal", "Newton its / slab"))
     for r in ov["rows"]:
-        goal = "" if r["goal"] is None else (f"<= {r['goal']:g} "
-                                             f"({'met' if r['ratio'] <= r['goal'] else 'not met'})")
+        met = r["goal"] is not None and max(r["ratio"], r["ratio_median"]) <= r["goal"]
+        goal = "" if r["goal"] is None else f"<= {r['goal']:g} ({'met' if met else 'not met'})"
         lines.append(f"| {r['case']} | {r['elements']} | {r['slabs']} | "
                      f"{r['slab_min_us']:.1f} / {r['slab_median_us']:.1f} | "
                      f"{r['floor_min_us']:.2f} / {r['floor_median_us']:.2f} | "

@@ -36,7 +36,8 @@ def test_bench_quick_reports_every_field(tmp_path):
         assert m["plateau_mean"] > 0 and m["oscillation"] >= 0 and m["wall"] > 0
     assert abs(res["peer"]["impact"]["vstfem"]["plateau_mean"] - 0.5) < 0.05
     ov = res["overhead"]
-    assert {r["case"] for r in ov["rows"]} == {"free", "held", "impact", "free (-vst_native 0)",
+    assert {r["case"] for r in ov["rows"]} == {"free", "held", "impact", "soil",
+                                              "free (-vst_native 0)",
                                               "held (-vst_native 0)", "impact (-vst_native 0)"}
     for row in ov["rows"]:
         for key in ("slab_min_us", "slab_median_us", "floor_min_us", "floor_median_us",

@@ -2,6 +2,8 @@
 rigid wall), its gap, the running contact totals and the result group
 ``/contact/<k>``.  A formulation (penalty.py, ...) adds the force law."""
 
+import math
+
 import numpy as np
 
 from vstpetsc.laws.base import Law
@@ -65,7 +67,7 @@ class PairLaw(Law):
         t["impulse_total"] += impulse
         t["contact_time"] += dt * on
         t["force_peak"] = max(t["force_peak"], impulse / dt)
-        if np.isnan(t["first_contact"]) and on:
+        if on and math.isnan(t["first_contact"]):
             t["first_contact"] = t0
 
     def track(self, t0, dt, intervals):

@@ -87,6 +87,9 @@ class PenaltyContact(PairLaw):
                       ((spec.left, "right"), (spec.right, "left")) if b is not None]
         self.last = None
         self.rates = None           # the closing rates of the last force() that acted
+        # its active pieces of the slab when the compiled slab found them
+        # (vstpetsc.native.PenaltySlab), else None: finish_slab finds them
+        self.pieces = None
 
     def add_operators(self, ops):
         """Move each contact node's mass (its row of M) to its inner
@@ -112,6 +115,7 @@ class PenaltyContact(PairLaw):
         df1/dd2, df2/dd1, df2/dd2) with f_a = -w G_a, or None when the gap
         stays open over the whole slab."""
         integrals = self.last = pair_integrals(self.gn, d1, d2, self.dt, self.power)
+        self.pieces = None
         if integrals is None:
             return None
         self.rates = (d1, d2)
@@ -141,9 +145,12 @@ class PenaltyContact(PairLaw):
         """Record the converged slab (the last force() was at its solution)."""
         last = self.last
         self.add_impulse(-self.penalty * (last[0] + last[1]) if last else 0.0, t0, dt)
-        if last or self.closed:     # free slabs after an open cost nothing more
-            self.track(t0, dt, active_intervals(*gap_coefficients(self.gn, *self.rates, dt))
-                       if last else ())
+        if not (last or self.closed):   # free slabs after an open cost nothing more
+            return
+        pieces = self.pieces
+        if last and pieces is None:
+            pieces = active_intervals(*gap_coefficients(self.gn, *self.rates, dt))
+        self.track(t0, dt, pieces if last else ())
 
     def attrs(self):
         return {**super().attrs(), "penalty": self.penalty,

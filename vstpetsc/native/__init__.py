@@ -44,7 +44,10 @@ class _Slab(ctypes.Structure):
 
     _fields_ = [("nodes", ctypes.c_int), ("acted", ctypes.c_int), ("u", _P), ("node", _P),
                 ("sign", _P), ("g0", _P), ("R0", _P), ("xE", _P), ("f_prev", _P),
-                ("work", _P), ("ran", ctypes.c_int)]
+                ("work", _P), ("ran", ctypes.c_int), ("serial", ctypes.c_int), ("x", _P),
+                ("b", _P), ("local", _P), ("carry", _P), ("groups", ctypes.c_int),
+                ("span", _P), ("first", _P), ("cols", _P), ("Z", _P), ("pieces", _P),
+                ("ends", _P)]
 
 
 def library():
@@ -57,6 +60,8 @@ def library():
             lib.vst_penalty_newton.restype = ctypes.c_int
             lib.vst_penalty_slab.argtypes = [_P, _P]
             lib.vst_penalty_slab.restype = ctypes.c_int
+            lib.vst_penalty_advance.argtypes = [_P, _P, ctypes.c_int]
+            lib.vst_penalty_advance.restype = None
             for name, args in (("vst_close", [_P]),
                                ("vst_rows_copy", [_P, ctypes.c_int, ctypes.c_long])):
                 getattr(lib, name).argtypes = args
@@ -107,13 +112,22 @@ class NativeNewton:
         code = self.lib.vst_penalty_newton(self.ref, start is not None)
         return self._finish(code, slab_index)
 
-    def _finish(self, code, slab_index):
-        """The outputs of the C Newton into the LawSet and the pairs."""
+    def _finish(self, code, slab_index, ends=None):
+        """The outputs of the C Newton into the LawSet and the pairs (with
+        ``ends``, PenaltySlab's, their gaps at t^n and pieces too)."""
         integrals, hit, y = self.integrals.tolist(), self.hit.tolist(), self.y.tolist()
+        gn, count = (self.gn.tolist(), self.pieces.tolist()) if ends else (None, None)
         for j, law in enumerate(self.laws):
-            law.last = tuple(integrals[6 * j:6 * j + 6]) if hit[j] else None
+            if gn:
+                law.gn = gn[j]
             if hit[j]:      # the converged rates: the pair's events (finish_slab)
+                law.last = tuple(integrals[6 * j:6 * j + 6])
                 law.rates = (y[2 * j], y[2 * j + 1])
+                # PenaltySlab gives its pieces of the slab, else finish_slab finds them
+                law.pieces = [(ends[6 * j + 2 * i], ends[6 * j + 2 * i + 1])
+                              for i in range(count[j])] if ends else None
+            else:
+                law.last = law.pieces = None
         if code != 0:
             raise not_converged(slab_index, self.max_it, self.ctx.norm)
         self.iterations = self.ctx.iterations
@@ -138,26 +152,61 @@ class PenaltySlab(NativeNewton):
         self.g0 = np.array([law.g0 for law in self.laws], dtype=np.float64)
         self.R0 = np.ascontiguousarray(R0, dtype=np.float64)
         self.xE = np.zeros(self.R0.shape[1])
-        # the caller's terms of the previous slab, read in place
+        # the caller's terms of the previous slab, read in place (and a slab's
+        # that acts written there)
         self.f_prev, self.work = f_prev, np.zeros(L)
         self.u = lawset.u                      # updated in place by the LawSolver
         self.slab = _Slab(lawset.nodes.size, 0, *(a.ctypes.data for a in (
             self.u, node, sign, self.g0, self.R0, self.xE, self.f_prev, self.work)), 0)
         self.slab_ref = ctypes.addressof(self.slab)
+        self.bound = self.serial = False
+        # each pair's pieces of the slab where it acts (its finish_slab's)
+        self.pieces, self.ends = np.zeros(L, dtype=np.intc), np.zeros(6 * L)
+        self.slab.pieces, self.slab.ends = self.pieces.ctypes.data, self.ends.ctypes.data
+
+    def bind(self, coupling, influence, b):
+        """On one rank (``coupling.local`` set): the calls read x_E from the
+        solver's array, subtract the pairs' influence (``influence``, a
+        LawInfluence) and close the slab (:meth:`advance`) on it and on
+        ``b`` (the running right-hand side's array) themselves."""
+        self.bound = True
+        if coupling.local is None:
+            return
+        ints = [np.ascontiguousarray(a, dtype=np.intc) for a in (
+            coupling.local, [i for span in influence.spans for i in span],
+            np.cumsum([0] + [cols.size for *_, cols in influence.groups]),
+            np.concatenate([cols for *_, cols in influence.groups] or [[]]))]
+        carry = np.ascontiguousarray(coupling.carry_rows, dtype=np.float64)
+        Z = (ctypes.c_void_p * len(influence.columns))(
+            *(z.ctypes.data for z in influence.columns))
+        # the arrays the struct points into live as long as it does
+        self._bound = (ints, carry, Z, coupling.array, b, influence.columns)
+        slab = self.slab
+        slab.x, slab.b = coupling.array.ctypes.data, b.ctypes.data
+        slab.local, slab.span, slab.first, slab.cols = (a.ctypes.data for a in ints)
+        slab.carry, slab.groups, slab.Z = carry.ctypes.data, len(influence.groups), \
+            ctypes.addressof(Z)
+        slab.serial = 1
+        self.serial = True
+
+    def advance(self, acted):
+        """After :meth:`bind`: the pairs' displacements += z_2, and b
+        += carry f (their terms carried over) when ``acted``."""
+        self.lib.vst_penalty_advance(self.ref, self.slab_ref, int(acted))
 
     def run(self, acted, slab_index):
-        """Solve the slab for the unknowns in ``xE`` (filled by the caller)
-        from the terms ``f_prev`` of the previous slab: whether a pair
-        acts; the LawSet's ``f``, the pairs' ``last`` integrals, ``y`` and
+        """Solve the slab for the unknowns in ``xE`` (filled by the caller,
+        or read from x after :meth:`bind`) from the terms ``f_prev`` of the
+        previous slab: whether a pair acts; the LawSet's ``f`` and
+        ``f_prev``, the pairs' ``last`` integrals and pieces, ``y`` and
         ``work`` are then the slab's."""
-        self.slab.acted = int(acted)
+        self.slab.acted = acted
         code = self.lib.vst_penalty_slab(self.ref, self.slab_ref)
+        if self.slab.ran:
+            self._finish(code, slab_index, self.ends.tolist())
+            return True
         for law, gap in zip(self.laws, self.gn.tolist()):     # the pairs' start_slab
             law.gn = gap
-        if not self.slab.ran:
             if acted:              # the pairs' last evaluation: nothing in this slab
-                for law in self.laws:
-                    law.last = None
-            return False
-        self._finish(code, slab_index)
-        return True
+                law.last = None
+        return False

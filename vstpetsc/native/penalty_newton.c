@@ -329,26 +329,143 @@ int vst_penalty_newton(Newton *c, int from_start)
 /* A whole slab of the pairs (LawSolver.solve with LawSet.start_slab,
  * Coupling.coordinates and the work sums): the gaps at t^n from the nodes'
  * displacements, the law-free coordinates y0 = R0 x_E, whether any pair
- * closes, the start guess y0 - S f_prev and the Newton. */
+ * closes, the start guess y0 - S f_prev and the Newton; on one rank also
+ * x_E read from x and, once converged, x -= sum f_j Zred_j. */
 typedef struct {
     int nodes;                 /* k: the pairs' nodes */
     int acted;                 /* whether a pair acted in the previous slab */
-    const double *u;           /* (k) the nodes' displacements at t^n */
+    double *u;                 /* (k) the nodes' displacements at t^n */
     const int *node;           /* (2L) pair j's nodes (-1: none) */
     const double *sign;        /* (2L) their signs */
     const double *g0;          /* (L) initial gaps */
     const double *R0;          /* (2L x 2k) y = R0 x_E */
-    const double *xE;          /* (2k) the slab's unknowns at the pairs' dofs */
-    const double *f_prev;      /* (2L) the pairs' terms of the previous slab */
+    double *xE;                /* (2k) the slab's unknowns at the pairs' dofs */
+    double *f_prev;            /* (2L) the pairs' terms of the previous slab; out: this one's */
     double *work;              /* out: (L) f . y of each pair */
     int ran;                   /* out: whether a pair acts (Newton ran) */
+    /* on one rank (serial): the solver's arrays, read and written here
+     * (Coupling.unknowns, LawInfluence.subtract, LawSolver.advance) */
+    int serial;
+    double *x;                 /* the slab's unknowns (the solver's array) */
+    double *b;                 /* the running right-hand side */
+    const int *local;          /* (2k) the pairs' dofs in x and b */
+    const double *carry;       /* (2k x 2L) b[local] += carry f after a slab that acted */
+    int groups;                /* LawInfluence's groups: */
+    const int *span;           /* (2 groups) each one's [lo, hi) in x */
+    const int *first;          /* (groups + 1) its columns: cols[first[g] .. first[g + 1]) */
+    const int *cols;
+    const double *const *Z;    /* (2L) the columns Zred over x */
+    int *pieces;               /* out: (L) how many pieces of the slab each pair acted on */
+    double *ends;              /* out: (6L) their (p, q) in [0, 1] (PenaltyContact.finish_slab) */
 } Slab;
+
+/* vstpetsc.laws.gap.active_intervals: the pieces (p, q) of [0, 1] where
+ * g < 0 into pq (at most three), touching ones joined; returns their count */
+static int active_intervals(const double *a, double *pq)
+{
+    double e[4], r[2];
+    int m, n = 0;
+    if (closed_throughout(a[0], a[1], a[2])) {
+        pq[0] = 0.0;
+        pq[1] = 1.0;
+        return 1;
+    }
+    m = roots01(a[0], a[1], a[2], r);
+    e[0] = 0.0;
+    for (int i = 0; i < m; i++)
+        e[i + 1] = r[i];
+    e[m + 1] = 1.0;
+    for (int i = 0; i <= m; i++) {
+        double p = e[i], q = e[i + 1], mid = p + 0.5 * (q - p);
+        if (!(q > p && a[0] + mid * (a[1] + mid * a[2]) < 0.0))
+            continue;
+        if (n > 0 && pq[2 * n - 1] == p) {
+            pq[2 * n - 1] = q;
+        } else {
+            pq[2 * n] = p;
+            pq[2 * n + 1] = q;
+            n++;
+        }
+    }
+    return n;
+}
+
+/* Each acting pair's pieces of the slab at its converged rates y */
+static void pair_pieces(const Newton *c, Slab *s)
+{
+    for (int j = 0; j < c->laws; j++) {
+        double a[3];
+        if (!c->hit[j]) {
+            s->pieces[j] = 0;
+            continue;
+        }
+        gap_coefficients(c->gn[j], c->y[2 * j], c->y[2 * j + 1], c->dt, a);
+        s->pieces[j] = active_intervals(a, s->ends + 6 * j);
+    }
+}
+
+/* x[lo, hi) += a_0 Z_0 + ... + a_{m-1} Z_{m-1}, the sums grouped as
+ * PETSc's VecMAXPY_Seq groups them (the remainder of m / 4 first, then
+ * fours), so that the result is LawInfluence.subtract's */
+static void maxpy(double *x, int lo, int hi, int m, const double *a, const double *const *z)
+{
+    int rem = m & 3, j = 0;
+    if (rem == 3) {
+        for (int i = lo; i < hi; i++)
+            x[i] += a[0] * z[0][i] + a[1] * z[1][i] + a[2] * z[2][i];
+    } else if (rem == 2) {
+        for (int i = lo; i < hi; i++)
+            x[i] += a[0] * z[0][i] + a[1] * z[1][i];
+    } else if (rem == 1) {
+        for (int i = lo; i < hi; i++)
+            x[i] += a[0] * z[0][i];
+    }
+    for (j = rem; j < m; j += 4)
+        for (int i = lo; i < hi; i++)
+            x[i] += a[j] * z[j][i] + a[j + 1] * z[j + 1][i] + a[j + 2] * z[j + 2][i]
+                + a[j + 3] * z[j + 3][i];
+}
+
+/* x -= sum_j f_j Zred_j over each group's span (LawInfluence.subtract) */
+static void subtract_influence(const Slab *s, const double *f)
+{
+    double a[MAX_ROWS];
+    const double *z[MAX_ROWS];
+    for (int g = 0; g < s->groups; g++) {
+        int m = 0;
+        for (int c = s->first[g]; c < s->first[g + 1]; c++, m++) {
+            a[m] = -f[s->cols[c]];
+            z[m] = s->Z[s->cols[c]];
+        }
+        maxpy(s->x, s->span[2 * g], s->span[2 * g + 1], m, a, z);
+    }
+}
+
+/* The end of a slab for the pairs (LawSolver.advance): u += z_2 at their
+ * nodes, and after a slab where a pair acted b[local] += carry f_prev */
+void vst_penalty_advance(const Newton *c, Slab *s, int acted)
+{
+    int k = s->nodes, n = 2 * c->laws;
+    for (int i = 0; i < k; i++)
+        s->u[i] += s->x[s->local[2 * i + 1]];
+    if (!acted)
+        return;
+    for (int m = 0; m < 2 * k; m++) {
+        double v = 0.0;
+        for (int i = 0; i < n; i++)
+            v += s->carry[m * n + i] * s->f_prev[i];
+        s->b[s->local[m]] += v;
+    }
+}
 
 int vst_penalty_slab(Newton *c, Slab *s)
 {
     int L = c->laws, n = 2 * L, k2 = 2 * s->nodes, any = 0;
     if (L < 1 || n > MAX_ROWS)
         return 2;
+    if (s->serial)             /* Coupling.unknowns */
+        for (int m = 0; m < k2; m++)
+            s->xE[m] = s->x[s->local[m]];
     for (int j = 0; j < L; j++) {
         /* PairLaw.start_slab: g0 - signs . u (every pair has a first node) */
         double moved = s->sign[2 * j] * s->u[s->node[2 * j]];
@@ -384,5 +501,11 @@ int vst_penalty_slab(Newton *c, Slab *s)
     int code = vst_penalty_newton(c, s->acted);
     for (int j = 0; j < L; j++)
         s->work[j] = c->f[2 * j] * c->y[2 * j] + c->f[2 * j + 1] * c->y[2 * j + 1];
-    return code;
+    if (code != 0)
+        return code;
+    pair_pieces(c, s);
+    memcpy(s->f_prev, c->f, n * sizeof(double));
+    if (s->serial)
+        subtract_influence(s, c->f);
+    return 0;
 }

@@ -58,7 +58,7 @@ class LawInfluence:
             mpi = space.comm.tompi4py()
             mpi.Allreduce(MPI.IN_PLACE, starts, op=MPI.MIN)
             mpi.Allreduce(MPI.IN_PLACE, ends, op=MPI.MAX)
-        self.groups = []
+        self.groups, self.spans = [], []      # spans: each group's [a, b) in x
         for lo, hi, members in groups_of(list(zip(starts.tolist(), ends.tolist()))):
             a, b = max(lo, first) - first, min(hi, 2 * n1) - first
             if b <= a:
@@ -68,7 +68,8 @@ class LawInfluence:
                      for c in cols]
             target = PETSc.Vec().createWithArray(x[a:b], comm=PETSc.COMM_SELF)
             self.groups.append((target, views, cols))
-        self._keep = (arrays, x)          # the arrays the views point into
+            self.spans.append((a, b))
+        self.columns, self._keep = arrays, x        # the arrays the views point into
 
     def subtract(self, f):
         """x -= sum_j f_j Zred_j (f: the laws' terms, two a law)."""

@@ -92,7 +92,7 @@ class LawSolver:
         """Newton if a law acts for the law-free solution X (updated in
         place); returns the Newton iterations."""
         if isinstance(self.newton, native.PenaltySlab):
-            return self._solve_compiled(X, slab_index)
+            return self._solve_compiled(X, b, slab_index)
         if isinstance(self.newton, smith_slab.SmithSlab):
             return self._solve_smith(dt, slab_index)
         laws = self.laws
@@ -126,17 +126,21 @@ class LawSolver:
                     self.work[part] += value
         return self.newton.iterations
 
-    def _solve_compiled(self, X, slab_index):
+    def _solve_compiled(self, X, b, slab_index):
         """solve() for penalty pairs: one call for the slab's start, test,
-        guess, Newton and work (:class:`vstpetsc.native.PenaltySlab`)."""
+        guess, Newton and work (:class:`vstpetsc.native.PenaltySlab`); on
+        one rank it reads X and subtracts the pairs' influence itself."""
         step = self.newton
-        self.coupling.unknowns(X, step.xE)
+        if not step.bound:
+            step.bind(self.coupling, self.influence, b.getArray())
+        if not step.serial:
+            self.coupling.unknowns(X, step.xE)
         if not step.run(self.acted, slab_index):
             self.acted = False
             return 0
-        self.influence.subtract(step.f)
-        self.f[:] = step.f
-        self.acted = True
+        if not step.serial:
+            self.influence.subtract(step.f)
+        self.acted = True               # (the call wrote the slab's terms into self.f)
         for key, work in zip(self.keys, step.work.tolist()):
             self.work[key] += work
         return step.iterations
@@ -161,11 +165,14 @@ class LawSolver:
             if self.acted and self.heads:
                 self.work["transferred"] += transferred
             return
-        self.laws.u += self.coupling.increments(X)
-        if self.acted:
-            self.coupling.gather.add_rows(b, self.coupling.carry_rows @ self.f)
-            if self.heads:
-                self._transfer(X)
+        if isinstance(self.newton, native.PenaltySlab) and self.newton.serial:
+            self.newton.advance(self.acted)      # bound to the solver's arrays
+        else:
+            self.laws.u += self.coupling.increments(X)
+            if self.acted:
+                self.coupling.gather.add_rows(b, self.coupling.carry_rows @ self.f)
+        if self.acted and self.heads:
+            self._transfer(X)
 
     def _transfer(self, X):
         """The slab's work of the marked laws on their node: the node
