@@ -180,3 +180,21 @@ def test_the_pile_bench_reports_every_field(tmp_path):
         assert 0 < row["min"] <= row["median"]
     assert all(0 < r["min"] <= r["median"] for r in res["slab"].values())
     assert "## Pile driving at equal accuracy" in (tmp_path / "README.md").read_text()
+
+
+def test_the_compiled_gauge_row_equals_the_python_one(tmp_path, monkeypatch):
+    """Gauges at ends, inside elements and at a node of two bars in
+    contact: the compiled row (native/gauge_row.c) and Gauges.fill on the
+    probe give the same series bit for bit (the same operations; a run on
+    several ranks uses the probe)."""
+    from test_gauges import case as gauge_case
+    from vstpetsc.native import gauge_row
+
+    a = solve(tmp_path, gauge_case(end=1.0), "g-c")
+    monkeypatch.setattr(gauge_row.GaugeRow, "of", classmethod(lambda cls, *args: None))
+    b = solve(tmp_path, gauge_case(end=1.0), "g-p")
+    da, db = datasets(a), datasets(b)
+    keys = [k for k in da if k.startswith("gauge/")]
+    assert len(keys) == 6 * 4
+    for key in keys:
+        assert np.abs(da[key]).max() > 0 and np.array_equal(da[key], db[key]), key

@@ -92,9 +92,12 @@ class Recorder:
                 layout.group_attrs(model), attrs, first, self.interval, snapshots,
                 [name for _, name in self.event_sets], expected)
         self._agree(create)
+        self.compiled_gauges = None
         if self.writer and self.writer.gauges:
             column = dict(self.gauges.series())
             self.gauge_order = np.array([column[n] for n in self.writer.gauges.names])
+            from vstpetsc.native.gauge_row import GaugeRow
+            self.compiled_gauges = GaugeRow.of(self.gauges, self.solver, self.gauge_order)
 
     def _snapshots(self, rhs=True):
         """The state a restart needs, on rank 0: the envelopes and (``rhs``)
@@ -117,6 +120,11 @@ class Recorder:
     def gauge_row(self):
         """The gauges' row of the slab just solved (every slab); when the
         buffer is full it goes to the file alone (collective)."""
+        if self.compiled_gauges is not None:           # one rank
+            self.compiled_gauges(self.writer.gauges.slot())
+            if self.writer.gauges.full():
+                self.flush(None)
+            return
         uv = self.probe()
         full = False
         if self.rank0:

@@ -17,12 +17,16 @@ class NodeValues:
         self.size = nodes.size
         self.solver = solver
         self.z = solver.x.reshape(-1, 2)             # the slab unknowns per node
-        self.V1 = solver.V[1].copy()                 # v^2 = z V1 (as gather_state)
+        # v^2 = z0 V1[0] + z1 V1[1], two products and a sum as the slab's
+        # end forms v (no BLAS, whose fused multiply-adds round otherwise):
+        # the same bits as the compiled gauge row (native/gauge_row.c)
+        self.V1 = solver.V[1].copy()
 
     def __call__(self):
         """(u, v) at the nodes on rank 0; None elsewhere."""
         u = self.solver.u[self.local]
-        v = self.z[self.local] @ self.V1
+        z = self.z[self.local]
+        v = z[:, 0] * self.V1[0] + z[:, 1] * self.V1[1]
         if self.solver.serial:
             return u, v
         return self.solver.space.assemble_on_rank0(self.size, self.index, u, v)
