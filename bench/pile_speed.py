@@ -144,7 +144,7 @@ def section(res):
         "A slab of the bundled `pile` (50 elements, output every 5 slabs) against one PCApply "
         "of its slab matrix (goal: the compiled slab within 50 times):", "",
         "| path | slab [us] min / median | floor [us] min / median | ratio min / median | "
-        "slabs with the soil acting |", "|---|---|---|---|---|", *slab_rows, ""])
+        "kept slabs with a Newton step |", "|---|---|---|---|---|", *slab_rows, ""])
 
 
 def main(argv=None):

@@ -144,3 +144,30 @@ def test_bench_table_rows_match_the_head():
     lines = text.splitlines()
     assert lines[0] == sweep_speed.SECTION
     assert [line.count("|") for line in lines[-3:]] == [8, 8, 8]
+
+
+@pytest.mark.parametrize("env, expected", [
+    ({}, "singleton"),
+    ({"OMPI_COMM_WORLD_SIZE": "2", "OMPI_COMM_WORLD_LOCAL_SIZE": "2"}, "one node"),
+    ({"OMPI_COMM_WORLD_SIZE": "4", "OMPI_COMM_WORLD_LOCAL_SIZE": "2"}, "none"),
+    ({"OMPI_COMM_WORLD_SIZE": "2", "OMPI_COMM_WORLD_LOCAL_SIZE": "2",
+      "OMPI_MCA_pml": "ucx"}, "none"),
+])
+def test_open_mpi_start_up_settings(env, expected):
+    """A singleton and ranks on one node start without probing the network
+    (pml ob1, shared memory); ranks on several nodes, or a user who chose,
+    keep Open MPI's own."""
+    from vstpetsc import petsc
+
+    want = {"singleton": petsc.SINGLETON_MPI, "one node": petsc.ONE_NODE_MPI,
+            "none": {}}[expected]
+    assert petsc._mpi_defaults(env) == want
+
+
+@needs_mpirun
+def test_ranks_of_one_node_start_with_shared_memory():
+    code = ("import os; from vstpetsc import petsc; petsc.initialize(); "
+            "print(os.environ.get('OMPI_MCA_pml'), os.environ.get('OMPI_MCA_btl'))")
+    p = mpirun("-c", code, program=sys.executable)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.split("\n")[:2] == ["ob1 self,vader"] * 2
