@@ -171,3 +171,25 @@ def test_ranks_of_one_node_start_with_shared_memory():
     p = mpirun("-c", code, program=sys.executable)
     assert p.returncode == 0, p.stderr
     assert p.stdout.split("\n")[:2] == ["ob1 self,vader"] * 2
+
+
+def test_a_summary_opens_the_result_file_once(tmp_path, monkeypatch):
+    """A sweep reads each run's summary: one open of the file for all its
+    reads (some 30 opens before), the same summary, the file closed after."""
+    import vstpetsc
+    from conftest import solve
+    from vstpetsc.results.reader import Result
+
+    result = solve(tmp_path, wall_case(), "one")
+    want, time = Result(result.path).summary(), result["time"]
+    opens = []
+    real = Result._open
+    monkeypatch.setattr(Result, "_open", lambda self: opens.append(1) or real(self))
+    fresh = Result(result.path)
+    opens.clear()
+    assert fresh.summary() == want and len(opens) == 1 and fresh._file is None
+    with fresh.session():
+        with fresh.session():                # nested: the same open file
+            assert np.array_equal(fresh["time"], time)
+    assert len(opens) == 2 and fresh._file is None
+    assert vstpetsc.Result is Result

@@ -13,6 +13,7 @@ HDF5 error while a run holds the file (a read that met a write half done)
 is retried.
 """
 
+import contextlib
 import os
 import time
 
@@ -56,6 +57,7 @@ class Result:
 
     def __init__(self, path):
         self.path = str(path)
+        self._file = None                  # open for a session's reads
         if not os.path.isfile(self.path):
             raise InputError(f"{self.path}: no such file")
         try:
@@ -87,9 +89,28 @@ class Result:
         import h5py
         return h5py.File(self.path, "r", locking=False)
 
+    @contextlib.contextmanager
+    def session(self):
+        """Keep the file open for the reads inside (a summary makes some 30
+        reads: one open instead of one each, 30 ms a run of a sweep)."""
+        if self._file is not None:
+            yield self
+            return
+        self._file = self._open()
+        try:
+            yield self
+        finally:
+            self._file.close()
+            self._file = None
+
     def _with_file(self, action):
         """``action(f)`` on the open file; retried for up to RETRY_SECONDS
         while a run holds the file (its write raced this read)."""
+        if self._file is not None:
+            try:
+                return action(self._file)
+            except HDF5_ERRORS:
+                pass                       # a racing write: read afresh below
         deadline = time.monotonic() + RETRY_SECONDS
         while True:
             try:
@@ -243,7 +264,8 @@ class Result:
     def summary(self):
         """The dict that `vstpetsc info` prints."""
         from vstpetsc.results.summary import summarize
-        return summarize(self)
+        with self.session():
+            return summarize(self)
 
 
 def _outline(f):
