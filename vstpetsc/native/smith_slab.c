@@ -15,7 +15,9 @@
  * where C F R adds each law's 2 x 2 tangent F_j to the blocks of its
  * nodes (a pair: of two neighbouring nodes), so A + C F R keeps A's bands
  * and its LU is the block Thomas algorithm: O(nodes) a step where the
- * dense Newton costs O(laws^3).
+ * dense Newton costs O(laws^3).  Few laws on many nodes (a pile's toe
+ * soil on a long mesh) take the dense S instead: O(laws^2) a residual,
+ * O(laws^3) a step, nothing over the nodes.
  *
  * The Smith nodes' integrals are vstpetsc.laws.smith.smith_integrals and
  * the cushions' vstpetsc.laws.cushion.cushion_integrals, the same pieces
@@ -62,6 +64,8 @@ typedef struct {
     int max_it;
     double rtol, atol, dt;
     const double *A, *Ainv, *ACp;   /* A's bands and factors */
+    const double *S;           /* (2L, 2L) row major, or NULL: S through A's bands */
+    double *M;                 /* (2L, 2L) workspace of the dense step */
     double *B, *Binv, *BCp;    /* A + C F R and its factors (workspace) */
     double *g, *sol;           /* (2N) workspace */
     const double *V, *W;       /* 2 x 2: z to v, law terms to rows */
@@ -456,6 +460,16 @@ static void coordinates(const SmithSlab *c, const double *x, double *y)
 /* sf = S v = R A^{-1} C v */
 static void times_s(SmithSlab *c, const double *v, double *sf)
 {
+    if (c->S) {                /* few laws on many nodes: the dense S */
+        int n = 2 * c->laws;
+        for (int i = 0; i < n; i++)
+            sf[i] = 0.0;
+        for (int m = 0; m < n; m++)
+            if (v[m] != 0.0)
+                for (int i = 0; i < n; i++)
+                    sf[i] += c->S[i * n + m] * v[m];
+        return;
+    }
     scatter(c, v, c->g);
     bands_solve(c->N, c->A, c->Ainv, c->ACp, c->g, c->sol);
     coordinates(c, c->sol, sf);
@@ -472,10 +486,62 @@ static double residual(SmithSlab *c, const double *y, int *any)
     return max_abs(c->sf, n);
 }
 
+/* d = (I + S F)^{-1} r with the dense S: Gaussian elimination with
+ * partial pivoting; 0 when singular or not finite */
+static int dense_step(SmithSlab *c)
+{
+    int n = 2 * c->laws;
+    double *M = c->M;
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < c->laws; j++) {
+            const double *F = c->tan + 4 * j, *Si = c->S + i * n + 2 * j;
+            M[i * n + 2 * j] = Si[0] * F[0] + Si[1] * F[2];
+            M[i * n + 2 * j + 1] = Si[0] * F[1] + Si[1] * F[3];
+        }
+        M[i * n + i] += 1.0;
+        c->d[i] = c->r[i];
+    }
+    for (int k = 0; k < n; k++) {
+        int p = k;
+        for (int i = k + 1; i < n; i++)
+            if (fabs(M[i * n + k]) > fabs(M[p * n + k]))
+                p = i;
+        if (M[p * n + k] == 0.0)
+            return 0;
+        if (p != k) {
+            for (int j = 0; j < n; j++) {
+                double t = M[k * n + j];
+                M[k * n + j] = M[p * n + j], M[p * n + j] = t;
+            }
+            double t = c->d[k];
+            c->d[k] = c->d[p], c->d[p] = t;
+        }
+        for (int i = k + 1; i < n; i++) {
+            double l = M[i * n + k] / M[k * n + k];
+            if (l == 0.0)
+                continue;
+            for (int j = k; j < n; j++)
+                M[i * n + j] -= l * M[k * n + j];
+            c->d[i] -= l * c->d[k];
+        }
+    }
+    for (int k = n - 1; k >= 0; k--) {
+        double t = c->d[k];
+        for (int j = k + 1; j < n; j++)
+            t -= M[k * n + j] * c->d[j];
+        c->d[k] = t / M[k * n + k];
+        if (!isfinite(c->d[k]))
+            return 0;
+    }
+    return 1;
+}
+
 /* d = (I + S F)^{-1} r = r - R (A + C F R)^{-1} C F r; 0 when not finite */
 static int step(SmithSlab *c)
 {
     int n = 2 * c->laws;
+    if (c->S)
+        return dense_step(c);
     memcpy(c->B, c->A, 12 * c->N * sizeof(double));
     for (int j = 0; j < c->laws; j++) {
         const double *F = c->tan + 4 * j;
@@ -621,9 +687,11 @@ int vst_smith_solve(SmithSlab *c)
         c->key_work[c->key[j]] += c->work[j];
     }
     /* the laws' terms into the solution: X -= A^{-1} C f, which the last
-     * residual (at the solution: Newton stops right after one) left in sol */
-    for (long i = 0; i < 2 * c->N; i++)
-        c->X[i] -= c->sol[i];
+     * residual (at the solution: Newton stops right after one) left in sol
+     * (with the dense S the caller subtracts them on their columns' spans) */
+    if (!c->S)
+        for (long i = 0; i < 2 * c->N; i++)
+            c->X[i] -= c->sol[i];
     finish(c);
     return code;
 }

@@ -41,7 +41,7 @@ class _Slab(ctypes.Structure):
 
     _fields_ = [("laws", ctypes.c_int), ("N", ctypes.c_long), ("max_it", ctypes.c_int),
                 ("rtol", ctypes.c_double), ("atol", ctypes.c_double), ("dt", ctypes.c_double)] + \
-        [(name, _P) for name in ("A", "Ainv", "ACp", "B", "Binv", "BCp", "g", "sol", "V", "W",
+        [(name, _P) for name in ("A", "Ainv", "ACp", "S", "M", "B", "Binv", "BCp", "g", "sol", "V", "W",
                                  "lnode", "lsign", "X", "b", "CW", "u", "f_prev", "y0", "y",
                                  "trial", "r",
                                  "d", "sf", "f", "tan", "work", "key", "key_work")] + \
@@ -62,10 +62,12 @@ class SmithSlab:
     """The slab's laws in one compiled Newton; after :meth:`run` the
     LawSet's ``f``, ``work`` and the Smith nodes' outputs are the slab's."""
 
-    def __init__(self, lib, lawset, solver, f_prev, keys, heads, rtol=1e-12, atol=1e-50,
-                 max_it=30):
+    def __init__(self, lib, lawset, solver, f_prev, keys, heads, S=None, rtol=1e-12,
+                 atol=1e-50, max_it=30):
         """``keys``: each law's energy term; ``heads``: [(law, sign, node
-        among the LawSet's)] whose work on that node is reported."""
+        among the LawSet's)] whose work on that node is reported; ``S``:
+        the condensed matrix, to use it instead of A's bands (``dense``: the
+        caller then puts the laws' terms into the solution)."""
         for name in ("vst_smith_start", "vst_smith_solve", "vst_smith_slab"):
             getattr(lib, name).argtypes = [_P]
             getattr(lib, name).restype = ctypes.c_int
@@ -84,6 +86,10 @@ class SmithSlab:
                   "X": solver.x, "b": solver.br,
                   "CW": np.ascontiguousarray(solver.carry @ solver.W), "u": lawset.u, "f_prev": f_prev, "f": lawset.f,
                   "tan": np.zeros(4 * L), "work": np.zeros(L), "yeval": np.zeros(2 * L)}
+        self.dense = S is not None
+        if self.dense:
+            arrays["S"] = np.ascontiguousarray(S, dtype=float)
+            arrays["M"] = np.zeros_like(arrays["S"])
         self.keys = list(dict.fromkeys(keys))
         arrays["key"] = np.array([self.keys.index(k) for k in keys], dtype=np.intc)
         arrays["key_work"] = np.zeros(len(self.keys))
@@ -114,7 +120,7 @@ class SmithSlab:
                          soil=soil.struct(), cushions=self.cushions.struct(),
                          others=self.callback)
         for name, kind in _Slab._fields_:
-            if kind is _P:
+            if kind is _P and name in arrays:
                 setattr(self.ctx, name, arrays[name].ctypes.data)
         self.ref = ctypes.addressof(self.ctx)
         self.synced = False
@@ -282,6 +288,12 @@ class CushionBank:
             out = a["out"][7 * i:7 * i + 7].tolist()
             spans = a["spans"][2 * SPANS * i:2 * SPANS * i + 2 * a["nspans"][i]].tolist()
             law.last = (*out, list(zip(spans[::2], spans[1::2])))
+
+
+def dense_is_cheaper(laws, nodes):
+    """Whether a step with the dense S (O((2 laws)^3)) costs less than one
+    on A's bands (some 100 flops a node)."""
+    return (2 * laws) ** 3 / 3 < 100 * nodes
 
 
 def takes(lawset, comm_size):

@@ -83,8 +83,10 @@ class LawSolver:
     def _smith_slab(self, solver, tolerances):
         """The compiled slab for laws with Smith nodes; the nodes' state
         in a bank that finishes them; the work summed per energy term."""
+        dense = smith_slab.dense_is_cheaper(len(self.laws.laws), solver.x.size // 2)
         slab = smith_slab.SmithSlab(native.library(), self.laws, solver, self.f, self.keys,
-                                    self.heads, **tolerances)
+                                    self.heads, self.coupling.S_red if dense else None,
+                                    **tolerances)
         self.laws.hand_over(slab.bank.laws)
         return slab
 
@@ -151,6 +153,8 @@ class LawSolver:
         if not step.run(self.acted, dt, (slab_index - 1) * dt, slab_index):
             self.acted = False
             return 0
+        if step.dense:                  # the terms into X on their columns' spans
+            self.influence.subtract(step.f)
         self.f[:] = step.f
         self.acted = True
         for key, work in step.work_terms():
@@ -187,8 +191,9 @@ class LawSolver:
         if self.newton is None:
             return ""
         if isinstance(self.newton, smith_slab.SmithSlab):
+            how = "a dense S" if self.newton.dense else "the slab matrix's bands"
             return (f"; Newton: plain, compiled, on the laws' {self.laws.reduced} coordinates"
-                    " (steps on the slab matrix's bands)")
+                    f" (steps on {how})")
         if isinstance(self.newton, native.NativeNewton):
             return f"; Newton: plain, compiled, on the laws' {self.laws.reduced} coordinates"
         if isinstance(self.newton, ReducedNewton):      # ManyLawNewton too
