@@ -133,7 +133,8 @@ def section(res):
     return "\n".join([
         SECTION, "",
         f"Converged set {1e3 * ref:.4f} mm (Smith at {min(res['smith_sets'])} and "
-        f"{max(res['smith_sets'])} segments extrapolated at first order; vstpetsc's sets on the way [mm]: {coarser}). Each method at the "
+        f"{max(res['smith_sets'])} segments extrapolated at first order; vstpetsc's sets "
+        f"on the way [mm]: {coarser}). Each method at the "
         f"coarsest resolution within {100 * res['tol']:g} % of it (c dt/h = 0.5 for both); "
         "time to solution interleaved in one process (vstpetsc: a whole run through the API, "
         "result file written).", "",

@@ -32,8 +32,7 @@ class LawSet:
         # the laws that read the slab's start time (a Python call per law
         # and slab on the hot path otherwise: pile driving has a law per soil node)
         self.timed = [law for law in self.laws if type(law).start_time is not Law.start_time]
-        self.finished = list(self.laws)              # the laws finish_slab calls one by one
-        self.batches = []                            # and those that finish many at once
+        self.finished = list(self.laws)              # the laws finish_slab calls
         self.u = np.zeros(self.nodes.size)           # displacement of the nodes at t^n
         self.f = np.zeros(self.reduced)              # the laws' terms of the last evaluation
         self.jac = np.zeros((self.reduced, self.reduced))
@@ -80,17 +79,13 @@ class LawSet:
         self.evaluate(self.P.T @ s)
         return self.P @ self.jac @ self.P.T
 
-    def hand_over(self, laws, batch=None):
-        """Let ``batch`` (or the compiled slab itself, without one) finish
-        ``laws``: a compiled path that keeps their state in arrays
+    def hand_over(self, laws):
+        """Leave ``laws`` to a compiled path that keeps their state in
+        arrays and finishes them itself
         (:class:`vstpetsc.native.smith_slab.SmithSlab`)."""
         taken = {id(law) for law in laws}
         self.finished = [law for law in self.finished if id(law) not in taken]
-        if batch is not None:
-            self.batches.append(batch)
 
     def finish_slab(self, t0, dt):
         for law in self.finished:
             law.finish_slab(t0, dt)
-        for batch in self.batches:
-            batch.finish_slab(t0, dt)

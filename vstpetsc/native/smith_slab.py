@@ -41,14 +41,15 @@ class _Slab(ctypes.Structure):
 
     _fields_ = [("laws", ctypes.c_int), ("N", ctypes.c_long), ("max_it", ctypes.c_int),
                 ("rtol", ctypes.c_double), ("atol", ctypes.c_double), ("dt", ctypes.c_double)] + \
-        [(name, _P) for name in ("A", "Ainv", "ACp", "S", "M", "B", "Binv", "BCp", "g", "sol", "V", "W",
-                                 "lnode", "lsign", "X", "b", "CW", "u", "f_prev", "y0", "y",
-                                 "trial", "r",
-                                 "d", "sf", "f", "tan", "work", "key", "key_work")] + \
+        [(name, _P) for name in (
+            "A", "Ainv", "ACp", "S", "M", "B", "Binv", "BCp", "g", "sol", "V", "W", "lnode",
+            "lsign", "X", "b", "CW", "u", "f_prev", "y0", "y", "trial", "r", "d", "sf", "f",
+            "tan", "work", "key", "key_work")] + \
         [(name, ctypes.c_int) for name in ("nkeys", "nu", "nheads")] + \
         [(name, _P) for name in ("unode", "head_law", "head_node", "head_sign")] + \
-        [("soil", _Nodes), ("cushions", _Cushions), ("others", _OTHERS), ("yeval", _P), ("acted", ctypes.c_int),
-         ("ran", ctypes.c_int), ("iterations", ctypes.c_int), ("norm", ctypes.c_double)]
+        [("soil", _Nodes), ("cushions", _Cushions), ("others", _OTHERS), ("yeval", _P),
+         ("acted", ctypes.c_int), ("ran", ctypes.c_int), ("iterations", ctypes.c_int),
+         ("norm", ctypes.c_double)]
 
 
 def banded(lawset):
@@ -68,48 +69,16 @@ class SmithSlab:
         among the LawSet's)] whose work on that node is reported; ``S``:
         the condensed matrix, to use it instead of A's bands (``dense``: the
         caller then puts the laws' terms into the solution)."""
-        for name in ("vst_smith_start", "vst_smith_solve", "vst_smith_slab"):
-            getattr(lib, name).argtypes = [_P]
-            getattr(lib, name).restype = ctypes.c_int
-        lib.vst_smith_advance.argtypes = [_P, ctypes.c_int]
-        lib.vst_smith_advance.restype = ctypes.c_double
+        _declare(lib)
         self.bank = soil = SmithBank(lawset)
-        lib.vst_smith_factor_a.argtypes = [_P, ctypes.c_long, _P, _P]
-        lib.vst_smith_factor_a.restype = None
         self.lib, self.lawset, self.laws = lib, lawset, lawset.laws
         self.soil, self.max_it = soil, max_it
-        L = len(self.laws)
-        A = np.ascontiguousarray(solver.matrix_blocks())
-        N = A.shape[0]
-        arrays = {"A": A, "V": np.ascontiguousarray(solver.V), "W": np.ascontiguousarray(solver.W),
-                  "lnode": np.full(2 * L, -1, dtype=np.int64), "lsign": np.zeros(2 * L),
-                  "X": solver.x, "b": solver.br,
-                  "CW": np.ascontiguousarray(solver.carry @ solver.W), "u": lawset.u, "f_prev": f_prev, "f": lawset.f,
-                  "tan": np.zeros(4 * L), "work": np.zeros(L), "yeval": np.zeros(2 * L)}
         self.dense = S is not None
-        if self.dense:
-            arrays["S"] = np.ascontiguousarray(S, dtype=float)
-            arrays["M"] = np.zeros_like(arrays["S"])
         self.keys = list(dict.fromkeys(keys))
-        arrays["key"] = np.array([self.keys.index(k) for k in keys], dtype=np.intc)
-        arrays["key_work"] = np.zeros(len(self.keys))
-        arrays["unode"] = np.ascontiguousarray(lawset.nodes, dtype=np.int64)
-        arrays["head_law"] = np.array([h[0] for h in heads], dtype=np.intc)
-        arrays["head_sign"] = np.array([h[1] for h in heads], dtype=float)
-        arrays["head_node"] = np.array([lawset.nodes[h[2]] for h in heads], dtype=np.int64)
-        for name in ("Ainv", "ACp", "Binv", "BCp"):
-            arrays[name] = np.zeros(4 * N)
-        arrays["B"] = np.zeros_like(A)
-        for name in ("g", "sol"):
-            arrays[name] = np.zeros(2 * N)
-        for name in ("y0", "y", "trial", "r", "d", "sf"):
-            arrays[name] = np.zeros(2 * L)
-        for j, law in enumerate(self.laws):
-            arrays["lnode"][2 * j:2 * j + law.nodes.size] = law.nodes
-            arrays["lsign"][2 * j:2 * j + law.nodes.size] = law.signs
-        lib.vst_smith_factor_a(A.ctypes.data, N, arrays["Ainv"].ctypes.data,
+        self.a = arrays = _arrays(lawset, solver, f_prev, keys, self.keys, heads, S)
+        L, N = len(self.laws), arrays["A"].shape[0]
+        lib.vst_smith_factor_a(arrays["A"].ctypes.data, N, arrays["Ainv"].ctypes.data,
                                arrays["ACp"].ctypes.data)
-        self.a = arrays
         self.cushions = CushionBank(lawset)
         compiled = {id(law) for law in soil.laws + self.cushions.laws}
         self.others = [j for j, law in enumerate(self.laws) if id(law) not in compiled]
@@ -186,6 +155,50 @@ class SmithSlab:
     def work_terms(self):
         """[(energy term, the slab's work)]."""
         return zip(self.keys, self.a["key_work"].tolist())
+
+
+def _declare(lib):
+    """The compiled slab's signatures."""
+    for name in ("vst_smith_start", "vst_smith_solve", "vst_smith_slab"):
+        getattr(lib, name).argtypes = [_P]
+        getattr(lib, name).restype = ctypes.c_int
+    lib.vst_smith_advance.argtypes = [_P, ctypes.c_int]
+    lib.vst_smith_advance.restype = ctypes.c_double
+    lib.vst_smith_factor_a.argtypes = [_P, ctypes.c_long, _P, _P]
+    lib.vst_smith_factor_a.restype = None
+
+
+def _arrays(lawset, solver, f_prev, keys, key_names, heads, S):
+    """{field of the C struct SmithSlab: array}: the solver's and the
+    LawSet's own arrays (read and written in place), the laws' nodes and
+    signs, the energy terms, the marked laws, and the workspaces."""
+    L = len(lawset.laws)
+    A = np.ascontiguousarray(solver.matrix_blocks())
+    N = A.shape[0]
+    a = {"A": A, "V": np.ascontiguousarray(solver.V), "W": np.ascontiguousarray(solver.W),
+         "X": solver.x, "b": solver.br, "CW": np.ascontiguousarray(solver.carry @ solver.W),
+         "u": lawset.u, "f_prev": f_prev, "f": lawset.f,
+         "lnode": np.full(2 * L, -1, dtype=np.int64), "lsign": np.zeros(2 * L),
+         "key": np.array([key_names.index(k) for k in keys], dtype=np.intc),
+         "key_work": np.zeros(len(key_names)),
+         "unode": np.ascontiguousarray(lawset.nodes, dtype=np.int64),
+         "head_law": np.array([h[0] for h in heads], dtype=np.intc),
+         "head_sign": np.array([h[1] for h in heads], dtype=float),
+         "head_node": np.array([lawset.nodes[h[2]] for h in heads], dtype=np.int64),
+         "B": np.zeros_like(A), "tan": np.zeros(4 * L), "work": np.zeros(L)}
+    if S is not None:
+        a["S"] = np.ascontiguousarray(S, dtype=float)
+        a["M"] = np.zeros_like(a["S"])
+    for name in ("Ainv", "ACp", "Binv", "BCp"):
+        a[name] = np.zeros(4 * N)
+    for name in ("g", "sol"):
+        a[name] = np.zeros(2 * N)
+    for name in ("y0", "y", "trial", "r", "d", "sf", "yeval"):
+        a[name] = np.zeros(2 * L)
+    for j, law in enumerate(lawset.laws):
+        a["lnode"][2 * j:2 * j + law.nodes.size] = law.nodes
+        a["lsign"][2 * j:2 * j + law.nodes.size] = law.signs
+    return a
 
 
 class SmithBank:

@@ -71,6 +71,7 @@ class LawSolver:
             compiled = options.native and native.library() is not None
             if compiled and smith_slab.takes(self.laws, space.comm.getSize()):
                 # Smith soil: the whole slab compiled, steps on A's bands
+                # (or on a dense S for few laws on many nodes)
                 self.newton = self._smith_slab(solver, tolerances)
             elif compiled and native.takes(self.laws.laws):
                 # the whole slab of the pairs in one compiled call
@@ -81,8 +82,8 @@ class LawSolver:
                 self.newton = kind(self.laws, self.coupling.S_red, **tolerances)
 
     def _smith_slab(self, solver, tolerances):
-        """The compiled slab for laws with Smith nodes; the nodes' state
-        in a bank that finishes them; the work summed per energy term."""
+        """The compiled slab for laws with Smith nodes (it finishes them
+        itself), its steps with the dense S where that is cheaper."""
         dense = smith_slab.dense_is_cheaper(len(self.laws.laws), solver.x.size // 2)
         slab = smith_slab.SmithSlab(native.library(), self.laws, solver, self.f, self.keys,
                                     self.heads, self.coupling.S_red if dense else None,
