@@ -70,6 +70,16 @@ def library():
     return _loaded[0]
 
 
+def bind(struct, arrays):
+    """Point every pointer field of the ctypes ``struct`` that ``arrays``
+    ({field: numpy array}) names at that array's data; returns ``struct``.
+    The caller keeps the arrays alive."""
+    for name, kind in struct._fields_:
+        if kind is _P and name in arrays:
+            setattr(struct, name, arrays[name].ctypes.data)
+    return struct
+
+
 def takes(laws):
     """Whether the C Newton can solve for these laws: penalty pairs only
     (a ``penalty`` and a ``power`` flag each), at most MAX_LAWS."""

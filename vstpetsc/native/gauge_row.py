@@ -8,7 +8,7 @@ import ctypes
 
 import numpy as np
 
-from vstpetsc.native import library
+from vstpetsc.native import bind, library
 
 _P = ctypes.c_void_p
 
@@ -36,10 +36,7 @@ class GaugeRow:
                   "u": solver.u, "z": solver.x, "V1": np.ascontiguousarray(solver.V[1]),
                   "order": np.ascontiguousarray(order, dtype=np.int64),
                   "values": np.zeros(4 * len(gauges))}
-        self.row = _Row(channels=len(gauges))
-        for name, kind in _Row._fields_:
-            if kind is _P:
-                setattr(self.row, name, self.a[name].ctypes.data)
+        self.row = bind(_Row(channels=len(gauges)), self.a)
         self.ref = ctypes.addressof(self.row)
 
     @classmethod

@@ -370,6 +370,13 @@ static int soil_acts(const SmithSlab *c, int i, const double *y)
     return closed_somewhere(s->p[i] - s->wn[i], -c->dt * y1, -0.5 * c->dt * (y2 - y1));
 }
 
+/* law j's terms and tangent from its integrals o (f1, f2, t11, t12, t21, t22) */
+static void put(SmithSlab *c, int j, const double *o)
+{
+    c->f[2 * j] = o[0], c->f[2 * j + 1] = o[1];
+    memcpy(c->tan + 4 * j, o + 2, 4 * sizeof(double));
+}
+
 /* every law at y into f and tan; whether any acts */
 static int evaluate(SmithSlab *c, const double *y)
 {
@@ -384,8 +391,7 @@ static int evaluate(SmithSlab *c, const double *y)
         Node n = {y[2 * j], y[2 * j + 1], c->dt, s->k[i], s->Ru[i], s->J[i], s->toe[i]};
         double *o = s->out + 7 * i;
         s->hit[i] = smith_integrals(s->wn[i], s->p[i], &n, o);
-        c->f[2 * j] = o[0], c->f[2 * j + 1] = o[1];
-        memcpy(c->tan + 4 * j, o + 2, 4 * sizeof(double));
+        put(c, j, o);
         any |= s->hit[i];
     }
     Cushions *cu = &c->cushions;
@@ -395,8 +401,7 @@ static int evaluate(SmithSlab *c, const double *y)
         cu->hit[i] = cushion_integrals(cu->gn[i], y[2 * j], y[2 * j + 1], c->dt, cu->k[i],
                                        cu->ku[i], cu->M[i], o, cu->spans + 2 * SPANS * i,
                                        cu->nspans + i);
-        c->f[2 * j] = o[0], c->f[2 * j + 1] = o[1];
-        memcpy(c->tan + 4 * j, o + 2, 4 * sizeof(double));
+        put(c, j, o);
         any |= cu->hit[i];
     }
     return any;
@@ -421,23 +426,29 @@ static int cushion_start(SmithSlab *c, int i)
     return closed_somewhere(cu->gn[i] + zero, -c->dt * d1, 0.5 * c->dt * (d1 - d2));
 }
 
-/* g = C v: each law's terms v_j (2 a law) on its nodes' rows, sign W v_j */
-static void scatter(const SmithSlab *c, const double *v, double *g)
+/* out += each law's terms v_j (2 a law) on its nodes' rows, sign M v_j */
+static void add_rows(const SmithSlab *c, const double *M, const double *v, double *out)
 {
-    memset(g, 0, 2 * c->N * sizeof(double));
     for (int j = 0; j < c->laws; j++) {
         if (v[2 * j] == 0.0 && v[2 * j + 1] == 0.0)
             continue;
         double w[2];
-        mv2(c->W, v + 2 * j, w);
+        mv2(M, v + 2 * j, w);
         for (int a = 0; a < 2; a++) {
             long node = c->lnode[2 * j + a];
             if (node >= 0) {
-                g[2 * node] += c->lsign[2 * j + a] * w[0];
-                g[2 * node + 1] += c->lsign[2 * j + a] * w[1];
+                out[2 * node] += c->lsign[2 * j + a] * w[0];
+                out[2 * node + 1] += c->lsign[2 * j + a] * w[1];
             }
         }
     }
+}
+
+/* g = C v: the laws' terms v on their rows (sign W v_j) */
+static void scatter(const SmithSlab *c, const double *v, double *g)
+{
+    memset(g, 0, 2 * c->N * sizeof(double));
+    add_rows(c, c->W, v, g);
 }
 
 /* y = R x: each law's coordinates, sign V x at its nodes */
@@ -704,8 +715,6 @@ int vst_smith_slab(SmithSlab *c)
     return vst_smith_solve(c);
 }
 
-static void carry(SmithSlab *c);
-
 /* LawSolver.advance: the laws' nodes' displacements (u += z_2); after an
  * acting slab its terms carried into the running sum b (b += carry W P f
  * on the laws' rows) and the marked laws' work on their node, -sign (f1 v^1
@@ -717,7 +726,7 @@ double vst_smith_advance(SmithSlab *c, int acted)
         c->u[i] += c->X[2 * c->unode[i] + 1];
     if (!acted)
         return 0.0;
-    carry(c);
+    add_rows(c, c->CW, c->f, c->b);
     for (int h = 0; h < c->nheads; h++) {
         double v[2];
         int j = c->head_law[h];
@@ -725,21 +734,6 @@ double vst_smith_advance(SmithSlab *c, int acted)
         transferred += c->head_sign[h] * (c->f_prev[2 * j] * v[0] + c->f_prev[2 * j + 1] * v[1]);
     }
     return transferred;
-}
-
-static void carry(SmithSlab *c)
-{
-    for (int j = 0; j < c->laws; j++) {
-        double w[2];
-        mv2(c->CW, c->f + 2 * j, w);
-        for (int a = 0; a < 2; a++) {
-            long node = c->lnode[2 * j + a];
-            if (node >= 0) {
-                c->b[2 * node] += c->lsign[2 * j + a] * w[0];
-                c->b[2 * node + 1] += c->lsign[2 * j + a] * w[1];
-            }
-        }
-    }
 }
 
 /* A's factors, once a run */

@@ -12,6 +12,7 @@ import ctypes
 
 import numpy as np
 
+from vstpetsc.native import bind
 from vstpetsc.reduced_newton import not_converged
 
 _P = ctypes.c_void_p
@@ -72,7 +73,7 @@ class SmithSlab:
         _declare(lib)
         self.bank = soil = SmithBank(lawset)
         self.lib, self.lawset, self.laws = lib, lawset, lawset.laws
-        self.soil, self.max_it = soil, max_it
+        self.max_it = max_it
         self.dense = S is not None
         self.keys = list(dict.fromkeys(keys))
         self.a = arrays = _arrays(lawset, solver, f_prev, keys, self.keys, heads, S)
@@ -88,12 +89,10 @@ class SmithSlab:
                          nkeys=len(self.keys), nu=lawset.nodes.size, nheads=len(heads),
                          soil=soil.struct(), cushions=self.cushions.struct(),
                          others=self.callback)
-        for name, kind in _Slab._fields_:
-            if kind is _P and name in arrays:
-                setattr(self.ctx, name, arrays[name].ctypes.data)
+        bind(self.ctx, arrays)
         self.ref = ctypes.addressof(self.ctx)
         self.synced = False
-        self.f, self.work, self.y = lawset.f, arrays["work"], arrays["y"]
+        self.f, self.y = lawset.f, arrays["y"]
         self.iterations = 0
 
     def _evaluate_others(self):
@@ -116,7 +115,7 @@ class SmithSlab:
         in place) and the terms ``f_prev`` of the previous slab, the Smith
         nodes' and the cushions' finish included: whether a law acts."""
         if not self.synced:
-            self.soil.sync()
+            self.bank.sync()
             self.cushions.sync()
             self.synced = True
         self.ctx.acted = acted
@@ -230,12 +229,7 @@ class SmithBank:
         self.synced = False
 
     def struct(self):
-        a = self.a
-        nodes = _Nodes(count=len(self.laws), tables=len(self.reports))
-        for name, kind in _Nodes._fields_:
-            if kind is _P:
-                setattr(nodes, name, a[name].ctypes.data)
-        return nodes
+        return bind(_Nodes(count=len(self.laws), tables=len(self.reports)), self.a)
 
     def sync(self):
         """The slips and the tables' work from the laws, at the first slab
@@ -255,9 +249,10 @@ class SmithBank:
 
 
 class CushionBank:
-    """The cushions' state as arrays for the compiled slab: their M in
-    before a slab; their gap, M and last integrals out after it (their own
-    ``finish_slab`` then runs)."""
+    """The cushions' state as arrays for the compiled slab, which starts
+    them and moves their M on: their M in at the first slab; their gap, M
+    and last integrals out after every slab (their own ``finish_slab``
+    then runs)."""
 
     def __init__(self, lawset):
         from vstpetsc.laws.cushion import Cushion
@@ -278,9 +273,7 @@ class CushionBank:
                   "hit": np.zeros(n, dtype=np.intc)}
 
     def struct(self):
-        a = self.a
-        return _Cushions(len(self.laws), *(a[name].ctypes.data
-                                           for name, _ in _Cushions._fields_[1:]))
+        return bind(_Cushions(count=len(self.laws)), self.a)
 
     def sync(self):
         """Their M from the laws, at the first slab (after a restart)."""

@@ -7,6 +7,8 @@ import ctypes
 
 import numpy as np
 
+from vstpetsc.native import bind
+
 _P = ctypes.c_void_p
 
 
@@ -48,8 +50,7 @@ class CompiledSoilNewton:
         self.blocks = np.zeros((soil.left.size, 2, 2))
         self.s = _Newton(N=N, rtol=tolerances[0], atol=tolerances[1], slow=tolerances[2],
                          lagged=tolerances[3], max_it=tolerances[4], fresh=0)
-        for name, arr in self.keep.items():
-            setattr(self.s, name, arr.ctypes.data)
+        bind(self.s, self.keep)
         self.s.m = ctypes.addressof(native.s)
         self.s.rows_last, self.s.kept_blocks = self.rows_last.ctypes.data, self.blocks.ctypes.data
         lib.vst_soil_factor_a(ctypes.byref(self.s))
