@@ -1,6 +1,5 @@
 """The gauges' row of a slab on one rank in one compiled call
-(gauge_row.c): numpy's dozen calls on a few numbers (about 15 us a slab)
-become one.  The Python path (:meth:`vstpetsc.gauges.Gauges.fill` on
+(gauge_row.c): numpy's dozen calls on a few numbers become one.  The Python path (:meth:`vstpetsc.gauges.Gauges.fill` on
 :class:`vstpetsc.petsc.probe.NodeValues`) runs on several ranks, with
 ``-vst_native 0`` and for channels that read a hysteretic soil's stress."""
 
