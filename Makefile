@@ -21,7 +21,7 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
 export MPLBACKEND := agg
 
-.PHONY: install demo test bench bench-quick bench-parallel bench-opensees soak clean formulations figures accuracy
+.PHONY: install demo test test-portable bench bench-quick bench-parallel bench-opensees soak clean formulations figures accuracy
 
 install: $(STAMP) $(NATIVE)
 
@@ -46,6 +46,12 @@ demo: install
 # two workers (pytest-xdist), the modules that start several ranks on one of them
 test: install
 	$(PY) -m pytest -q -n 2 --dist loadgroup tests
+
+# The suite as other x86-64 CPUs run it: numpy's SIMD dispatch narrowed,
+# OpenBLAS's kernel of an older CPU, the C kernels built for the baseline
+# and for this CPU (tests/portable.py; about three times `make test`).
+test-portable: install
+	$(PY) tests/portable.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info demo.h5 $(NATIVE)

@@ -28,6 +28,7 @@ import sys
 import numpy as np
 import pytest
 
+from agreement import TRANSCENDENTAL_RTOL
 from conftest import ROOT
 
 sys.path.insert(0, os.path.join(ROOT, "bench"))
@@ -52,7 +53,10 @@ def ramp(a, b, samples=200):
 
 def test_virgin_loading_follows_the_backbone_and_linear_limit_is_elastic():
     strains = np.concatenate((ramp(0.0, 3e-3), ramp(3e-3, -1e-3), ramp(-1e-3, 2e-3)))
-    assert np.array_equal(drive(strains[:200]), F(strains[:200]))
+    # the point's scalar pow (libm) against numpy's vectorised one, whose
+    # kernel the CPU picks: equal to a few ulp (tests/agreement.py)
+    np.testing.assert_allclose(drive(strains[:200]), F(strains[:200]),
+                               rtol=TRANSCENDENTAL_RTOL, atol=0.0)
     for linear in (mr.Mkz(8.0e7), mr.Mkz(8.0e7, gamma_ref=5e-4, beta=0.0)):
         assert np.allclose(drive(strains, linear), 8.0e7 * strains, rtol=1e-14, atol=0.0)
         assert mr.loop_damping_closed_form(linear, 1e-3) == 0.0

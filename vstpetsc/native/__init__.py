@@ -12,6 +12,8 @@ one to rounding.  The end of a slab on one rank (slab_close.c) is in
 `make install` builds ``libvstnative.so`` next to this file with the
 system's C compiler; without it (a plain ``pip install``) :func:`library`
 returns None and the Python path runs.  ``-vst_native 0`` turns it off.
+The environment variable ``VSTPETSC_NATIVE_LIB`` names another build of
+the library to load (``make test-portable`` builds it for other CPUs).
 """
 
 import ctypes
@@ -22,7 +24,7 @@ import numpy as np
 from vstpetsc.reduced_newton import not_converged
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-LIBRARY = os.path.join(HERE, "libvstnative.so")
+LIBRARY = os.environ.get("VSTPETSC_NATIVE_LIB") or os.path.join(HERE, "libvstnative.so")
 MAX_LAWS = 32
 _loaded = []
 
@@ -54,8 +56,8 @@ def library():
     """The compiled kernels (None when not built)."""
     if not _loaded:
         lib = None
-        if os.path.exists(LIBRARY):
-            lib = ctypes.CDLL(LIBRARY)
+        if os.path.exists(LIBRARY) or "VSTPETSC_NATIVE_LIB" in os.environ:
+            lib = ctypes.CDLL(LIBRARY)      # a library asked for by name must load
             lib.vst_penalty_newton.argtypes = [_P, ctypes.c_int]
             lib.vst_penalty_newton.restype = ctypes.c_int
             lib.vst_penalty_slab.argtypes = [_P, _P]
