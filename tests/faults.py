@@ -32,11 +32,11 @@ GAUGES = ("gauge/a-mid/u", "gauge/a-mid/stress", "gauge/b-left/v", "gauge/b-left
 EVENTS = ("contact/0/events",)
 
 
-def long_case(every=40, end=24.0):
+def long_case(every=40, end=24.0, elements=1000):
     """Two bars in contact, the far end fixed: 24 000 slabs of 2000
     elements, about two seconds of running (long enough to be stopped at
     any moment, also as the solver gets faster)."""
-    bar = lambda name, x, **kw: {"name": name, "x": x, "elements": 1000, "E": 1.0, "rho": 1.0,
+    bar = lambda name, x, **kw: {"name": name, "x": x, "elements": elements, "E": 1.0, "rho": 1.0,
                                  **kw}
     return vstpetsc.Case.from_dict({
         "time": {"dt": 0.001, "end": end}, "output": {"every": every},
@@ -296,32 +296,84 @@ def command_reads(out, k):
     return True, command
 
 
-def read_while_running(folder, end=24.0, least=3):
-    """Info, export --csv, plot and Result reads, over and over, on the file
-    of a run (:func:`long_case` to ``end``) writing a block per kept row:
-    every one exits 0 and shows series of equal lengths.  None when the run
-    ended before ``least`` commands had read its file (nothing tested; a
-    command takes seconds on a busy machine)."""
+def read_while_running(folder, reads=2000, commands=3, every=1000, elements=1000, seconds=120.0):
+    """A soak: ``reads`` Result reads and ``commands`` commands (info, export
+    --csv, plot in turn) of the file a run writes, a block per kept row,
+    with the other core kept busy; the run outlasts them (ten million
+    slabs) and is then stopped (SIGTERM).  Every read must show a
+    consistent prefix (:func:`consistent`) whose last row is the final
+    file's row, bit for bit.  (ok, detail); not ok also when the reads
+    took longer than ``seconds``."""
     out = os.path.join(folder, f"read-{time.monotonic_ns()}.h5")
     case = out[:-3] + ".toml"
     with open(case, "w") as f:
-        f.write(long_case(end=end).to_toml())
+        f.write(long_case(end=1e4, every=every, elements=elements).to_toml())
+    busy = subprocess.Popen([sys.executable, "-c", "while True: pass"])
     proc = start(case, out, "-vst_flush_interval", "0")
-    if not wait_for(out, proc):
-        return False, f"the run did not start: {proc.communicate()[1].strip()}"
-    reads = commands = 0
-    while proc.poll() is None:
-        checks = [lambda: consistent(out)] * 10 + [lambda: command_reads(out, commands)]
-        for check in checks:
-            ok, detail = check()
-            if not ok:
-                proc.kill()
-                proc.communicate()
-                return False, f"after {reads} reads and {commands} commands: {detail}"
-        reads, commands = reads + 10, commands + 1
-    _, stderr = proc.communicate()
-    if proc.returncode != 0:
-        return False, f"the run: exit {proc.returncode}: {stderr.strip()}"
-    if commands < least:
-        return None, f"the run ended after {commands} commands (fewer than {least})"
-    return True, f"{commands} commands and {reads} Result reads while it ran, all consistent"
+    try:
+        if not wait_for(out, proc):
+            return False, f"the run did not start: {proc.communicate()[1].strip()}"
+        seen, detail = _soak(out, proc, reads, commands, time.monotonic() + seconds)
+        if seen is None:
+            return False, detail
+    finally:
+        busy.kill()
+        if proc.poll() is None:
+            proc.send_signal(signal.SIGTERM)
+        proc.communicate()
+        busy.wait()
+    return _prefixes_of(out, seen, detail)
+
+
+def _soak(out, proc, reads, commands, deadline):
+    """({rows: hash of the last row of body a's u} over the reads, detail),
+    or (None, what failed).  A read: a new Result, its times, the last row
+    of u and of every gauge series; every 250th the whole :func:`consistent`."""
+    seen, done = {}, [0, 0]
+    while done[0] < reads or done[1] < commands:
+        if proc.poll() is not None:
+            return None, f"the run ended after {done[0]} reads: {proc.communicate()[1][-300:]}"
+        if time.monotonic() > deadline:
+            return None, f"only {done[0]} reads and {done[1]} commands in time"
+        if done[0] >= reads or (done[1] < commands and done[0] % 50 == 49):
+            ok, detail = command_reads(out, done[1])
+            done[1] += 1
+        else:
+            ok, detail = consistent(out) if done[0] % 250 == 0 else _prefix(out, seen)
+            done[0] += 1
+        if not ok:
+            return None, f"after {done[0]} reads and {done[1]} commands: {detail}"
+    return seen, f"{done[0]} reads and {done[1]} commands"
+
+
+def _prefix(out, seen):
+    """(ok, detail) of one light read (the last rows only); notes the hash
+    of its last u row."""
+    try:
+        r = vstpetsc.Result(out)
+        with r.session():
+            n, slabs = r.time.size, r.solver["slab"]
+            seen[n] = hash(r.read("body/a/u", np.s_[n - 1, :]).tobytes())
+            last = [r.read(f"gauge/{g}/{k}", np.s_[-1]) for g in r.gauges
+                    for k in r.keys(f"gauge/{g}")]
+    except Exception as exc:                     # any traceback is the fault
+        return False, f"{type(exc).__name__}: {str(exc)[:200]}"
+    if not r._swmr:
+        return False, "read without HDF5's SWMR mode"
+    if slabs.size != n or r._gauge_rows < slabs[-1] + 1 or not np.isfinite(last).all():
+        return False, f"{n} times, {slabs.size} slabs, {r._gauge_rows} gauge rows, last {last}"
+    return True, f"{n} rows"
+
+
+def _prefixes_of(out, seen, detail):
+    """(ok, detail): the stopped run's file is whole and holds every row
+    the reads saw, as they saw it."""
+    ok, whole = consistent(out)
+    if not ok:
+        return False, f"the stopped run's file: {whole}"
+    u = vstpetsc.Result(out).body("a").u
+    differ = [n for n, h in seen.items() if n > len(u) or hash(u[n - 1].tobytes()) != h]
+    if differ:
+        return False, f"rows read differ from the final file's at {differ[:5]}"
+    return True, f"{detail}, {len(seen)} distinct prefixes, all consistent"
+

@@ -205,11 +205,9 @@ def load_restart(path, case, model, energy):
     None) of the last row of result file ``path``, after checking that it continues
     ``case``; its laws and ``energy`` (an EnergyBook) take their running
     sums back."""
-    import h5py
-
-
+    from vstpetsc.results.hdf5 import open_to_read
     try:
-        f = h5py.File(path, "r", locking=False)
+        f = open_to_read(path)
     except OSError:
         raise InputError(f"--restart: cannot open {path} as an HDF5 file") from None
     with f:

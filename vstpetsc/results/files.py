@@ -49,9 +49,9 @@ def foreign(path):
     (a run must not overwrite it)."""
     if not os.path.exists(path):
         return False
-    import h5py
+    from vstpetsc.results.hdf5 import open_to_read
     try:
-        with h5py.File(path, "r", locking=False) as f:
+        with open_to_read(path) as f:
             return "case" not in f.attrs or "solver" not in f
     except (OSError, ValueError):
         return True

@@ -11,6 +11,77 @@ import h5py
 import numpy as np
 
 STRING = h5py.string_dtype()      # what h5py stores a str attribute as
+# HDF5's newest file format: what its single-writer/multiple-reader mode
+# (SWMR) needs; HDF5 older than 1.10 cannot read such files
+LIBVER = "latest"
+
+
+def open_to_read(path):
+    """Result file ``path`` open for reading, in HDF5's SWMR read mode where
+    it can be: a file a run writes in SWMR mode is then read consistently
+    (HDF5 orders the writer's metadata flushes so that a reader never
+    meets an address not yet written), and a file whose SWMR writer was
+    killed opens at all (it keeps HDF5's "open for writing" mark, which a
+    plain open refuses).  A file that a run writes without SWMR (a restart
+    of a file of the older format) opens plainly: ``f.swmr_mode`` tells."""
+    try:
+        return h5py.File(path, "r", locking=False, swmr=True)
+    except OSError as exc:
+        if "not already open for SWMR writing" not in str(exc):
+            raise
+    return h5py.File(path, "r", locking=False)
+
+
+def swmr_format(path):
+    """Whether file ``path`` is of the format HDF5's SWMR mode needs (its
+    superblock of version 3, at the start of the file: vstpetsc writes no
+    user block).  A file of an older format read in SWMR mode is read
+    without SWMR's guarantees."""
+    with open(path, "rb") as f:
+        head = f.read(9)
+    return head[:8] == b"\x89HDF\r\n\x1a\n" and head[8] >= 3
+
+
+def open_to_write(path, mode):
+    """Result file ``path`` open to write (``mode`` "w" or "a") in the newest
+    format; a file whose SWMR writer was killed is first cleared of HDF5's
+    "open for writing" mark (:func:`clear_writer_mark`)."""
+    try:
+        return h5py.File(path, mode, locking=False, libver=LIBVER)
+    except OSError as exc:
+        if mode == "w" or "h5clear" not in str(exc):
+            raise
+    clear_writer_mark(path)
+    return h5py.File(path, mode, locking=False, libver=LIBVER)
+
+
+def clear_writer_mark(path):
+    """Clear the mark HDF5 leaves in the superblock of a file whose SWMR
+    writer did not close it, with HDF5's own tool (h5clear -s, Debian's
+    hdf5-tools); OSError naming what is missing if it cannot."""
+    import os
+    import shutil
+    import subprocess
+    tool = shutil.which("h5clear")
+    if tool is None:
+        raise OSError(f"{path} was left open for writing by a killed run; HDF5's h5clear "
+                      "(Debian package hdf5-tools) clears that mark, and is not installed")
+    # HDF5's own file lock off: the restart holds vstpetsc's lock on the file
+    env = dict(os.environ, HDF5_USE_FILE_LOCKING="FALSE")
+    p = subprocess.run([tool, "-s", path], capture_output=True, text=True, env=env)
+    if p.returncode != 0:
+        raise OSError(f"h5clear -s {path}: {(p.stderr or p.stdout).strip()}")
+
+
+def start_swmr(f):
+    """Put file ``f`` (open to write) in SWMR mode: from here on readers in
+    other processes see a consistent prefix of it.  False when its format
+    has no SWMR (a file written before vstpetsc used the newest format)."""
+    try:
+        f.swmr_mode = True
+    except (ValueError, RuntimeError, OSError):
+        return False
+    return True
 
 
 def set_attrs(obj, values):
@@ -100,12 +171,28 @@ class Growing:
 
 
 def count_attr(oid, name, value):
-    """The low-level id of the int64 attribute ``name`` of object ``oid``
-    (a count of rows on disk), created with ``value`` if absent."""
+    """The int64 attribute ``name`` of object ``oid`` (a count of rows on
+    disk, a slab number) as a :class:`CountAttr`, created with ``value``
+    if absent."""
     key = name.encode()
     if not h5py.h5a.exists(oid, key):
         attr = h5py.h5a.create(oid, key, h5py.h5t.py_create(np.dtype(np.int64)),
                                h5py.h5s.create(h5py.h5s.SCALAR))
         attr.write(np.array(value, dtype=np.int64))
-        return attr
-    return h5py.h5a.open(oid, key)
+        attr.close()
+    return CountAttr(oid, key)
+
+
+class CountAttr(NamedTuple):
+    """An int64 attribute written in place, opened for each write (~10 us):
+    HDF5 starts SWMR writing only while no attribute of the file is open."""
+
+    oid: object
+    key: bytes
+
+    def write(self, value):
+        attr = h5py.h5a.open(self.oid, self.key)
+        try:
+            attr.write(np.asarray(value, dtype=np.int64))
+        finally:
+            attr.close()

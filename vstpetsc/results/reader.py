@@ -1,15 +1,17 @@
 """Reading a result file: :class:`Result`, lazy (each value is read from
 the file when it is asked for, so a big file costs nothing to open).
 
-A file being written by a run is read safely: the run grows its datasets
-before it writes their rows, one after the other, and HDF5 has no
-concurrent reader mode here (SWMR would need the newest file format and
-forbids the attributes a run writes when it ends).  So a Result reads, when
-it is opened, how many rows are complete in every dataset (the attributes
+A file being written by a run is read safely: the run writes it in HDF5's
+single-writer/multiple-reader (SWMR) mode and a Result reads it in SWMR
+read mode, so every read sees a consistent file without retries
+(:func:`~vstpetsc.results.hdf5.open_to_read`).  The run grows its datasets
+before it writes their rows, so a Result reads, when it is opened, how
+many rows are complete in every dataset (the attributes
 :data:`~vstpetsc.results.layout.COMPLETE_ROWS` and ``COMPLETE_GAUGE_ROWS``
 that the writer sets after each block is on disk; the shortest dataset in
-a file without them) and shows every series cut to those many rows; and an
-HDF5 error while a run holds the file (a read that met a write half done)
+a file without them) and shows every series cut to those many rows.  A
+file of the older format continued by a restart is written without SWMR:
+an HDF5 error while its run holds it (a read that met a write half done)
 is retried.
 """
 
@@ -58,6 +60,7 @@ class Result:
     def __init__(self, path):
         self.path = str(path)
         self._file = None                  # open for a session's reads
+        self._swmr = False                 # read in HDF5's SWMR mode (no retries)
         if not os.path.isfile(self.path):
             raise InputError(f"{self.path}: no such file")
         try:
@@ -69,11 +72,14 @@ class Result:
             raise InputError(f"{self.path}: not a vstpetsc result (no {', '.join(missing)})")
 
     def _steady_outline(self):
-        """The file's outline; while a run holds the file, read until two
+        """The file's outline; while a run holds a file it writes without
+        SWMR (:func:`~vstpetsc.results.hdf5.open_to_read`), read until two
         reads in a row name the same groups and datasets (a read that met
         the run rewriting the root's header may miss a name silently)."""
-        outline = self._with_file(_outline)
-        for _ in range(STEADY_READS):
+        from vstpetsc.results.hdf5 import swmr_format
+        outline, swmr = self._with_file(lambda f: (_outline(f), f.swmr_mode))
+        self._swmr = swmr and swmr_format(self.path)
+        for _ in range(0 if swmr else STEADY_READS):
             if not held(self.path):
                 break
             again = self._with_file(_outline)
@@ -86,8 +92,8 @@ class Result:
         # h5py here, not at the top: `import vstpetsc` leaves it (~0.1 s) to
         # what reads or writes a file.  A run may be writing the file: read
         # it without HDF5's file lock
-        import h5py
-        return h5py.File(self.path, "r", locking=False)
+        from vstpetsc.results.hdf5 import open_to_read
+        return open_to_read(self.path)
 
     @contextlib.contextmanager
     def session(self):
@@ -104,20 +110,22 @@ class Result:
             self._file = None
 
     def _with_file(self, action):
-        """``action(f)`` on the open file; retried for up to RETRY_SECONDS
-        while a run holds the file (its write raced this read)."""
+        """``action(f)`` on the open file.  A file read in SWMR mode is read
+        once; one that a run writes without SWMR is read again for up to
+        RETRY_SECONDS while the run holds it (its write raced this read)."""
         if self._file is not None:
             try:
                 return action(self._file)
             except HDF5_ERRORS:
-                pass                       # a racing write: read afresh below
+                if self._swmr:
+                    raise
         deadline = time.monotonic() + RETRY_SECONDS
         while True:
             try:
                 with self._open() as f:
                     return action(f)
             except HDF5_ERRORS:
-                if time.monotonic() > deadline or not held(self.path):
+                if self._swmr or time.monotonic() > deadline or not held(self.path):
                     raise
             time.sleep(0.01)
 

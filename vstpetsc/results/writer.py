@@ -29,7 +29,8 @@ from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.results import layout
 from vstpetsc.results.blocks import BlockThread
 from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
-from vstpetsc.results.hdf5 import Grown, Growing, count_attr, set_attrs
+from vstpetsc.results.hdf5 import (Grown, Growing, count_attr, open_to_write, set_attrs,
+                                   start_swmr)
 from vstpetsc.results.layout import COMPLETE_GAUGE_ROWS, COMPLETE_ROWS
 
 BUFFER_VALUES = 1 << 20          # doubles per series buffer (8 MB; two of them with a thread)
@@ -251,7 +252,7 @@ class ResultWriter:
         lock = OutputLock(path)
         temp, f, fd, self = lock.new(), None, None, None
         try:
-            f = h5py.File(temp, "w", locking=False)
+            f = open_to_write(temp, "w")
             fd = os.open(temp, os.O_RDWR)
             header = sum(np.asarray(a).nbytes for a in statics.values())
             DiskReserve(fd).ensure(f.id.get_filesize(), header + MARGIN)
@@ -262,6 +263,7 @@ class ResultWriter:
                 self.gauges.slot()[:] = [first_row[n] for n in self.gauges.names]
             self.flush(snapshots, 0)
             self.settle()
+            start_swmr(f)          # every object is made: readers may come
             lock.publish(fd)
         except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
             hdf5_failed = (self.broken if self is not None else
@@ -284,7 +286,7 @@ class ResultWriter:
         as for :meth:`create`."""
         path = lock.path
         try:
-            f = h5py.File(path, "a", locking=False)
+            f = open_to_write(path, "a")
             DiskReserve(lock.fd).ensure(f.id.get_filesize(), MARGIN)
             for k, v in attrs.items():
                 f.attrs[k] = v
@@ -298,6 +300,7 @@ class ResultWriter:
                 self.gauges.truncate(rows)
             self.completed.write(self.n, self._gauge_rows())
             f.flush()
+            start_swmr(f)          # a file of the older format goes on without
         except (OSError, RuntimeError, ValueError) as exc:
             lock.release()
             raise InputError(f"--restart: cannot append to {path}: {_reason(exc)}") from None
@@ -326,15 +329,14 @@ class ResultWriter:
         return self.pending > 0 and (self.pending == self.capacity or
                                      time.monotonic() - self.last_flush >= self.interval)
 
-    def flush(self, snapshots=None, slab=None, gauges_only=False, then=None):
+    def flush(self, snapshots=None, slab=None, gauges_only=False):
         """Write the buffered rows and ``snapshots`` ({name: array}, state
         at the last row, slab number ``slab``; arrays given away: the
         thread writes them while the run goes on), then flush HDF5: on a
         thread (:mod:`~vstpetsc.results.blocks`) when there are two sets
         of buffers, after the block before it, whose failure is raised
         here; with ``gauges_only`` the gauge rows alone, at once (a full
-        gauge buffer between kept rows); ``then()``: more HDF5 writes that
-        go with the block's last flush (a closing run's status)."""
+        gauge buffer between kept rows)."""
         self.settle()
         snapshots = snapshots or {}
         try:
@@ -348,28 +350,24 @@ class ResultWriter:
         if gauges_only:
             self._write(self.gauges.write, self.gauges.take())
         elif self.spare is None:
-            self._write(self._write_block, self._take(), snapshots, slab, then=then)
+            self._write(self._write_block, self._take(), snapshots, slab)
         else:
             block = self._take()
-            self.thread.start(lambda: self._write(self._write_block, block, snapshots, slab,
-                                                  then=then))
+            self.thread.start(lambda: self._write(self._write_block, block, snapshots, slab))
         self.last_flush = time.monotonic()
 
     def settle(self):
         """Until the block in flight is in the file; its OutputFailed."""
         self.thread.wait()
 
-    def _write(self, action, *args, then=None):
+    def _write(self, action, *args):
         """``action(*args)``, an HDF5 flush, the counts of complete rows
-        (:class:`Completed`), ``then()`` and a flush; an HDF5 error breaks
-        the file."""
+        (:class:`Completed`) and a flush; an HDF5 error breaks the file."""
         try:
             action(*args)
             self.f.flush()
             self.completed.write(self.n, self._gauge_rows())
             self.events.complete()
-            if then is not None:
-                then()
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
             self.broken = True
@@ -408,26 +406,24 @@ class ResultWriter:
 
     def close(self, status, snapshots=None, slab=None, groups=None, **attrs):
         """Write what is buffered, set the status and attributes (``groups``:
-        {group: attributes} too), close the
-        file, cut off the reserved tail and release the lock.  If the last
-        block cannot be written the status becomes "failed" and the error
-        is raised after the file is closed.  The status goes with the last
-        block's last flush, after its rows are on disk (a flush less)."""
+        {group: attributes} too), close the file, cut off the reserved tail
+        and release the lock.  If the last block cannot be written the
+        status becomes "failed" and the error is raised after the file is
+        closed.  The status is written after the last block's rows are on
+        disk, once the file has left SWMR mode (:meth:`_end_swmr`)."""
         error = None
-
-        def finish():
-            set_attrs(self.f, {"status": status, **attrs})
-            for group, values in (groups or {}).items():
-                set_attrs(self.f[group], values)
         if not self.broken:
             try:
-                self.flush(snapshots, slab, then=finish)
+                self.flush(snapshots, slab)
                 self.settle()
             except OutputFailed as exc:
                 error, status, attrs = exc, "failed", {"message": str(exc)}
-        if not self.broken and error is not None:       # the status of a failed block
+        if not self.broken:
             try:
-                finish()
+                self._end_swmr()
+                set_attrs(self.f, {"status": status, **attrs})
+                for group, values in (groups or {}).items():
+                    set_attrs(self.f[group], values)
                 self.f.flush()
             except (OSError, RuntimeError, ValueError) as exc:
                 self.broken = True
@@ -437,6 +433,17 @@ class ResultWriter:
         self.lock.release()
         if error is not None:
             raise error
+
+    def _end_swmr(self):
+        """Close a file in SWMR mode and open it again plainly: SWMR lets a
+        writer write its datasets' data, not make or change attributes,
+        which the closing status and summaries are.  Its space is reserved
+        again (HDF5 cut the reserved tail off when it closed the file)."""
+        if not self.f.swmr_mode:
+            return
+        self.f.close()
+        self.f = open_to_write(self.lock.path, "a")
+        self.reserve.ensure(self.f.id.get_filesize(), MARGIN)
 
 
 def _track(growing, most=BUFFER_ROWS):
