@@ -94,7 +94,7 @@ def test_every_newton_gives_the_compiled_events(tmp_path, options):
     case = bar_wall("seed")
     native = solve(tmp_path, case, "native").contact(0).events
     other = solve(tmp_path, case, "other", options=options).contact(0).events
-    assert native.shape[0] >= 2 and native.shape == other.shape
+    assert native.shape[0] > 2 and native.shape == other.shape
     np.testing.assert_allclose(native, other, rtol=0, atol=1e-8 * DT)   # Newton tolerance
 
 
@@ -227,9 +227,8 @@ def test_info_prints_the_contact_durations(tmp_path):
 
 
 def test_info_keeps_many_contacts_short(tmp_path):
-    """Many contacts (periodic-impacts: nine): the total and the first three
-    only."""
-    r = solve(tmp_path, vstpetsc.Case.from_toml(bundled.path("periodic-impacts")))
+    """Many contacts: the total and the first three only."""
+    r = solve(tmp_path, bar_wall("seed"))
     events = r.contact(0).events
     n = int((events[:, 1] > 0).sum())
     assert n > 3
@@ -284,19 +283,3 @@ def test_info_gives_one_contact_duration_a_contact_closed_at_the_end_included(tm
     first = re.search(r"total duration (\S+),", info).group(1)
     second = re.search(r"contacts, total (\S+) s", info).group(1)
     assert first == second == f"{total:.6g}", info
-
-
-def test_a_pressed_pair_at_rest_logs_one_close_not_two_events_a_slab(tmp_path):
-    """A block resting on a column under gravity, the seed formulation's
-    static start, 400 slabs: the seed's gap dips open inside every slab
-    (801 events before); the log holds the one close at t = 0, and the
-    pair is pressed at every kept slab end."""
-    from test_static_start import G, column, courant_dt
-    dt = courant_dt(50)
-    case = make_case(dt, 400 * dt, [column(50), bar("block", [10.0, 12.0], 10)],
-                     contacts=[{"pair": ["column", "block"], "formulation": "seed"}],
-                     bcs=[{"body": "column", "end": "left", "type": "fixed"}],
-                     gravity={"g": G, "initial": "static"})
-    r = solve(tmp_path, case)
-    assert np.array_equal(r.contact(0).events, [[0.0, 1.0]])
-    assert (r.contact(0).gap < 0).all() and (r.contact(0).impulse[1:] > 0).all()

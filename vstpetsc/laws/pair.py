@@ -82,11 +82,12 @@ class PairLaw(Law):
         self.totals["event_count"] += len(events) - before
 
     def _track(self, t0, dt, intervals):
-        closed, events = self.closed, []
+        closed, events = self.closed, self.events
         if not intervals:
             if closed:              # it acted up to the end of the last slab
                 events.append((t0, -1.0))
-            closed = False
+                self.closed = False
+            return
         for p, q in intervals:
             if closed and p > 0.0:  # (rounding) the gap opened at the slab's start
                 events.append((t0, -1.0))
@@ -96,16 +97,6 @@ class PairLaw(Law):
             closed = q == 1.0
             if not closed:
                 events.append((t0 + q * dt, -1.0))
-        # touching at t = 0 (a pressed static start): closed from the start
-        first = t0 == 0.0 and not self.closed and intervals and intervals[0][0] == 0.0
-        if (self.closed or first) and closed:
-            # closed at both slab ends: an opening strictly inside is not a
-            # separation the slab resolves (the seed formulation's gap of a
-            # pressed pair at rest dips open inside every slab, from its
-            # velocity jump at the slab start); a contact inside a slab open
-            # at both ends is logged (it carries an impulse)
-            events = [(t0, 1.0)] if first else []
-        self.events += events
         self.closed = closed
 
     def take_events(self):
