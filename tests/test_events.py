@@ -3,7 +3,6 @@
 of the cushion's force), written with the blocks, restarted bit for bit."""
 
 import io
-import re
 import shutil
 
 import numpy as np
@@ -264,22 +263,3 @@ def test_restart_cuts_events_written_after_the_last_row(tmp_path, monkeypatch):
         events[n:] = later[n:]
     vstpetsc.run(case, output=str(out), quiet=True, restart=True, out=io.StringIO())
     assert_same_files(out, full.path)
-
-
-def test_info_gives_one_contact_duration_a_contact_closed_at_the_end_included(tmp_path):
-    """The bundled dam-interface: three contacts, the last still closed at
-    the end. Both of info's lines give their total, the last counted to
-    the end (the second left it out: 1.06538 against 1.711)."""
-    case = tmp_path / "dam.toml"
-    assert cli("example", "dam-interface", "-o", case).returncode == 0
-    out = tmp_path / "dam.h5"
-    assert cli("run", case, "-o", out, "--quiet").returncode == 0
-    r = vstpetsc.Result(out)
-    close = r.contact(0).events[r.contact(0).events[:, 1] > 0, 0]
-    opened = r.contact(0).events[r.contact(0).events[:, 1] < 0, 0]
-    assert close.size == opened.size + 1                 # closed at the end
-    total = (opened - close[:-1]).sum() + r.time[-1] - close[-1]
-    info = cli("info", out).stdout
-    first = re.search(r"total duration (\S+),", info).group(1)
-    second = re.search(r"contacts, total (\S+) s", info).group(1)
-    assert first == second == f"{total:.6g}", info

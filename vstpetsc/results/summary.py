@@ -8,7 +8,7 @@ NO_REFERENCE = 1e-12    # e0 below this fraction of the largest total energy is 
 LISTED_CONTACTS = 3     # contacts `info` lists one by one (then the total)
 
 
-def pair_summary(group, k, t_end=np.nan):
+def pair_summary(group, k):
     """Contact history of pair k from its group of the result: the running
     totals over every slab (their last kept value) and the kept gaps.
 
@@ -18,13 +18,11 @@ def pair_summary(group, k, t_end=np.nan):
     (largest slab-mean force), mean_force (total impulse / total contact
     time), impulse (total), penetration (largest overlap at kept slab ends),
     contacts ([(close, open)] from the events, open nan while still closed;
-    None for a file without events), contact_total (their total length, a
-    contact still closed counted to ``t_end``; ``duration`` without events).
+    None for a file without events).
     """
     last = lambda key: float(group[key][-1])
     a = group.attrs
     duration = last("contact_time")
-    spans = contact_spans(group["events"]) if "events" in group.keys() else None
     return {"name": text(a.get("pair", str(k))).replace(",", " | "),
             "formulation": text(a.get("formulation", "")),
             "penalty": float(a.get("penalty", np.nan)), "first_contact": last("first_contact"),
@@ -34,8 +32,7 @@ def pair_summary(group, k, t_end=np.nan):
             "mean_force": last("impulse_total") / duration if duration > 0 else 0.0,
             "impulse": last("impulse_total"),
             "penetration": float(max(0.0, -group["gap"].min())),
-            "contacts": spans,
-            "contact_total": duration if spans is None else contact_total(spans, t_end),
+            "contacts": contact_spans(group["events"]) if "events" in group.keys() else None,
             **slip_summary(group)}
 
 
@@ -62,17 +59,9 @@ def contact_spans(events):
     return spans
 
 
-def contact_total(spans, t_end):
-    """The total length of the contacts ``spans`` ([(close, open)]), one
-    still closed (open nan) counted to ``t_end``: one number for both of
-    `info`'s lines."""
-    return float(sum((t_end if np.isnan(o) else o) - c for c, o in spans))
-
-
-def contact_line(k, name, spans, total):
+def contact_line(k, name, spans):
     """`info`'s line of pair k's contacts: their number and each one's
-    duration (close to open); for many the total (``total``, a contact
-    still closed included) and the first few."""
+    duration (close to open); for many the total and the first few."""
     def one(close, open_):
         if np.isnan(open_):
             return f"still closed (close {close:.6g})"
@@ -82,6 +71,7 @@ def contact_line(k, name, spans, total):
     head = f"    contact[{k}] {name}: {n} contact{'' if n == 1 else 's'}"
     if n <= 1:
         return f"{head}, {one(*spans[0])}" if n else head
+    total = sum(o - c for c, o in spans if not np.isnan(o))
     listed = "; ".join(one(*s) for s in spans[:LISTED_CONTACTS])
     return f"{head}, total {total:.6g} s; {listed}{', ...' if n > LISTED_CONTACTS else ''}"
 
@@ -93,8 +83,7 @@ def summarize(result):
     dt = float(a.get("dt", time[1] - time[0] if time.size > 1 else np.nan))
     every = int(a.get("every", 1))
     bodies = [body_summary(result, name) for name in result.bodies]
-    t_end = float(time[-1]) if time.size else np.nan
-    pairs = [pair_summary(result.contact(k), k, t_end) for k in range(result.ncontacts)]
+    pairs = [pair_summary(result.contact(k), k) for k in range(result.ncontacts)]
     energies = {key: result.energy[key] for key in result.energy}
     energy = energies["kinetic"] + energies["strain"] + energies.get("spring", 0.0)
     initial = float(sum(energies[k][0] for k in ("kinetic", "strain", "spring", "contact")
@@ -240,11 +229,11 @@ def format_summary(s, path):
             continue
         lines += [f"    [{k}] {p['name']} ({p['formulation']}, {law})",
                   f"        first contact t = {p['first_contact']:.6g}, total duration "
-                  f"{p['contact_total']:.6g}, {p['episodes']} episode(s)",
+                  f"{p['duration']:.6g}, {p['episodes']} episode(s)",
                   f"        force peak {p['peak_force']:.6g}, mean {p['mean_force']:.6g}; "
                   f"impulse {p['impulse']:.6g}; largest penetration {p['penetration']:.4g}"]
         if p.get("contacts") is not None:
-            lines.append(contact_line(k, p["name"], p["contacts"], p["contact_total"]))
+            lines.append(contact_line(k, p["name"], p["contacts"]))
         lines += slip_lines(p)
     e0, e1 = s["energy_start"], s["energy_end"]
     change = energy_change(e0, e1, s["energy"].get("numerical", 0.0), s.get("energy_peak", 0.0))
