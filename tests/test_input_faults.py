@@ -245,35 +245,3 @@ def test_every_on_the_command_line_beyond_64_bits_is_refused(tmp_path):
     p = cli("run", case, "-o", tmp_path / "r.h5", "--every", str(2 ** 63))
     assert p.returncode == 2 and one_clean_line(p.stderr) and "--every" in p.stderr
     assert not (tmp_path / "r.h5").exists()
-
-
-# -- issue 35: file samples against the inline values' limits -----------------
-
-HUGE = [0.0, 1e200, 2e200, -1e200]
-
-
-@pytest.mark.parametrize("form", ["csv", "AT2", "inline"])
-def test_huge_samples_are_refused_up_front_in_every_form(tmp_path, form):
-    """Samples beyond 1e150, integrated: one line naming the key and the
-    sample, exit 2, no numpy warning (a CSV printed four first)."""
-    if form == "csv":
-        (tmp_path / "m.csv").write_text("t,acc\n" + "".join(
-            f"{0.01 * k},{s!r}\n" for k, s in enumerate(HUGE)))
-        value, key = {"file": "m.csv", "column": "acc"}, "bc[0].value.file:"
-    elif form == "AT2":
-        (tmp_path / "m.AT2").write_text("PEER\nsynthetic\nUNITS OF G\nNPTS= 4, DT= 0.01 SEC\n"
-                                        + "  ".join(map(repr, HUGE)) + "\n")
-        value, key = {"file": "m.AT2"}, "bc[0].value.file:"
-    else:
-        value = {"table": [[0.01 * k, s] for k, s in enumerate(HUGE)]}
-        key = "bc[0].value.table row 1:"
-    refused(tmp_path, record_case(tmp_path, {**value, "integrate": True}), key,
-            "1e+200", "must lie in 1e-150 .. 1e+150")
-
-
-def test_samples_whose_scaled_integral_overflows_are_refused(tmp_path):
-    """Each time, sample and the scale within the limits, the integral
-    beyond a double: refused with one line, no numpy warning."""
-    (tmp_path / "m.csv").write_text("t,acc\n0,1e149\n1e20,1.5e149\n2e20,-1e149\n")
-    value = {"file": "m.csv", "column": "acc", "scale": 1e149, "integrate": True}
-    refused(tmp_path, record_case(tmp_path, value), "bc[0].value:", "overflows")

@@ -10,8 +10,6 @@ import math
 import numbers
 import os
 
-import numpy as np
-
 from vstpetsc import history as hist
 from vstpetsc.history import History
 
@@ -64,14 +62,7 @@ class HistoryChecks:
         samples = self._samples(val, name)
         if samples is None or scale is None:
             return None
-        with np.errstate(over="ignore", invalid="ignore"):
-            history = hist.from_samples(*samples, scale=scale, integrate=integrate)
-        if not history.is_finite():
-            what = "scale times the samples, integrated," if integrate else "scale times the samples"
-            self.add(name, f"{what} overflows (largest sample {np.abs(samples[1]).max():g}, "
-                     f"scale {scale:g})")
-            return None
-        return history
+        return hist.from_samples(*samples, scale=scale, integrate=integrate)
 
     def _samples(self, val, name):
         """(t, values) of a record's table or file, or None."""
@@ -93,22 +84,11 @@ class HistoryChecks:
         self.inputs.append(full)
         try:
             if path.upper().endswith(".AT2"):
-                return self._in_range(hist.read_at2(full), full, f"{name}.file")
-            return self._in_range(hist.read_csv(full, column), full, f"{name}.file")
+                return hist.read_at2(full)
+            return hist.read_csv(full, column)
         except hist.RecordError as exc:
             self.add(f"{name}.file", str(exc))
             return None
-
-    def _in_range(self, samples, path, name):
-        """The samples (t, values) of a file, or None after reporting the
-        first beyond :data:`MAGNITUDE` (the bound of inline values)."""
-        for label, column in zip(("time", "value"), samples):
-            big = np.nonzero(np.abs(column) > MAGNITUDE[1])[0]
-            if big.size:
-                self.add(name, f"{path}, sample {big[0] + 1}: {label} {column[big[0]]:g} must "
-                         f"lie in {MAGNITUDE[0]:g} .. {MAGNITUDE[1]:g} in magnitude (or be 0)")
-                return None
-        return samples
 
     def profile(self, tbl, key, where, default=None):
         """A positive number or a [[x, value], ...] table along the body

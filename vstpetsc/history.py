@@ -54,13 +54,6 @@ class History:
             self._c1 = self.slopes[:-1]
             self._c2 = np.diff(self.slopes) / (2.0 * np.diff(self.t))
 
-    def is_finite(self):
-        """Whether every value, slope and coefficient is finite (samples
-        times a scale, integrated, may overflow)."""
-        parts = (self.t, self.f) if self.slopes is None else (self.t, self.f, self.slopes,
-                                                               self._c2)
-        return all(np.isfinite(p).all() for p in parts)
-
     @property
     def is_zero(self):
         return not np.any(self.f) and (self.slopes is None or not np.any(self.slopes))
