@@ -276,6 +276,43 @@ def test_info_prints_the_contact_durations(tmp_path):
     assert f"{opens[0] - closes[0]:.6g} s (close {closes[0]:.6g}, open {opens[0]:.6g})" in line
 
 
+def info_durations(path):
+    """(total duration of the first line, total of the contacts' line,
+    [each contact's duration]) that `vstpetsc info` prints for pair 0."""
+    import re
+    p = cli("info", path)
+    assert p.returncode == 0, p.stderr
+    first = float(re.search(r"total duration (\S+),", p.stdout).group(1))
+    line, = [x for x in p.stdout.splitlines() if x.strip().startswith("contact[0]")]
+    total = re.search(r"contacts?, (?:total )?(\S+) s", line)
+    each = [float(x) for x in re.findall(r"(\S+) s \(close", line)]
+    return first, float(total.group(1)), each
+
+
+@pytest.mark.parametrize("name, end", [("dam-interface", None), ("bar-wall", 1.2e-3)])
+def test_info_counts_a_contact_still_closed_at_the_end(tmp_path, name, end):
+    """The bundled dam-interface (its third contact still closed when the
+    run ends: 1.711 s on one line, 1.06538 s on the other before) and
+    bar-wall cut inside its one contact: `info` prints one contact
+    duration on both lines, the sum of the contacts' spans from close to
+    open, or to the end of the run for the contact still closed."""
+    if name == "dam-interface":
+        case = vstpetsc.Case.from_toml(bundled.path(name))
+    else:
+        case = bar_wall("power", end=end)
+    r = solve(tmp_path, case)
+    events = r.contact(0).events
+    assert events[-1, 1] == 1.0                            # still closed at the end
+    t_end = r.time[-1]
+    closes, opens = events[events[:, 1] > 0, 0], np.append(events[events[:, 1] < 0, 0], t_end)
+    first, total, each = info_durations(r.path)
+    assert first == total
+    assert total == float(f"{np.sum(opens - closes):.6g}")
+    assert each == [float(f"{d:.6g}") for d in opens - closes]
+    assert r.summary()["pairs"][0]["duration"] == pytest.approx(np.sum(opens - closes),
+                                                                 rel=1e-14)
+
+
 def test_info_keeps_many_contacts_short(tmp_path):
     """Many contacts (periodic-impacts: nine): the total and the first
     three only."""
