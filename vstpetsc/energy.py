@@ -85,7 +85,8 @@ class EnergyBook:
         rows' totals (equal to rounding)."""
         self.held0 = sum(float(first[k]) for k in HELD)
         self.initial = self.held0 + float(first["contact"])
-        self.peak = float(np.abs(self.initial + np.asarray(external)).max(initial=abs(self.initial)))
+        totals = self.initial + np.asarray(external, dtype=float)
+        self.peak = float(np.abs(totals).max(initial=abs(self.initial)))
         if continued:
             self.offset = dict.fromkeys(SUMMED, 0.0)
             self.offset["contact"] = float(first["contact"])

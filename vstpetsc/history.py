@@ -241,7 +241,7 @@ def _plain_csv(path, text, column):
         return None
     try:
         data = np.loadtxt(io.StringIO(body), delimiter=",", usecols=(0, index), comments=None,
-                          dtype=float, ndmin=2, encoding=None)
+                          dtype=float, ndmin=2)
     except ValueError:
         return None
     return data[:, 0].copy(), data[:, 1].copy(), 2 if header else 1
