@@ -167,10 +167,11 @@ def read_csv(path, column=2, magnitude=None):
     (lo, hi), a time or value beyond hi in magnitude is refused (see
     :func:`_within`).
 
-    A plain file (no quotes) is read by numpy's loadtxt (measured: 0.4 us a
-    row, 1.6 row by row); anything it does not take (a bad row, a quoted cell, a number
-    only Python reads) is read again row by row (:func:`read_csv_rows`),
-    which gives the same samples and says what is wrong where."""
+    A plain file (no quotes) is read by numpy's loadtxt (measured: 0.4 us
+    a row, 1.6 row by row); anything it does not take (a bad row, a quoted
+    cell, a number only Python reads) is read again row by row
+    (:func:`read_csv_rows`), which gives the same samples and says what is
+    wrong where."""
     text = _csv_text(path)
     samples = _plain_csv(path, text, column)
     if samples is None:
