@@ -66,8 +66,11 @@ events are the real roots of g inside the slab, the same roots that split
 the slab for the exact penalty integrals (laws/gap.py). A cushion acts
 where its force is positive: its events are where the compression rises
 above zero and where the unloading line reaches zero force. Each law
-records them at the end of the converged slab; the compiled Newton
-(native/penalty_newton.c) hands back its converged rates and the roots are
+records them at the end of the converged slab; the compiled slab
+(native/penalty_newton.c) hands back each acting pair's pieces of the
+slab, found at its converged rates with the same operations as
+`active_intervals` (equal, tests/test_contact_slab_cost.py), and the
+compiled Newton alone its converged rates, from which the roots are
 computed again in Python, only in slabs where the pair acts or has just
 stopped acting. A pair closed across a slab end records nothing there (no
 open and close at the boundary); a pair closed at the end of one slab and
@@ -85,15 +88,24 @@ approach's time: the slab's velocity is linear in time and already slowed
 by the force after the root, so the root comes later (measured for a
 close a quarter into a slab: 0.1 dt power, 0.5 dt seed).
 
-The events are the discrete solution's: its gap may open and close again
-within one impact, and each such change is a row. With the seed
-formulation the gap opens and closes within nearly every slab of an
-impact (tested: more than three contacts on bar-wall; measured 195, and
-406 in the nine impacts of periodic-impacts); with power the bar-wall bar
-touches, separates for about one slab and closes again (measured: 2
-contacts). The tests group events into impacts by separations longer
-than 10 dt (two-bars: one; periodic-impacts: nine, L / c long, every
-3 L / c).
+An opening that closes again within the same slab is not an event: the
+pair is in contact at both of the slab's ends and passes force in it, so
+its state does not change across a slab end. The seed formulation makes
+such openings all the time: its penalty weighs the slab's two time levels
+2 : 1, so its fixed point at rest moves the contact node inside each slab
+(tests/test_static_start.py) and its gap opens for part of every slab; in
+an impact it does so within nearly every slab. A block resting on a column
+under gravity from the static start therefore records one event in 400
+slabs, the close at t = 0 (801 before, an open and a close per slab;
+seed and power, tests/test_events.py), and the seed bar-wall impact one
+close and one open (388 events before). A close followed by an open inside
+one slab (a touch shorter than a slab, which passes an impulse) stays two
+events. Otherwise the events are the discrete solution's: a gap that opens
+across a slab end and closes again later is two rows. Measured: bar-wall
+2 events with seed and power, 4 with a cushion; periodic-impacts 17 (nine
+contacts, the last still closed). The tests group events into impacts by
+separations longer than 10 dt (two-bars: one; periodic-impacts: nine,
+L / c long, every 3 L / c).
 """
 
 

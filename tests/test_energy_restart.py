@@ -11,6 +11,10 @@ import pytest
 
 import vstpetsc
 from conftest import bar, make_case, solve, write_case
+# imported before any run of this process starts MPI (its environment
+# would reach mpirun's ranks and stop their MPI_Init: the file run alone
+# failed test_restart_on_two_ranks_bit_for_bit)
+from test_parallel import mpirun
 from vstpetsc import bundled, driver
 from vstpetsc import model as model_mod
 from vstpetsc.errors import Interrupted
@@ -214,8 +218,6 @@ def test_restart_on_two_ranks_bit_for_bit(tmp_path):
     """pile on two ranks, completed half-way and continued on two ranks:
     every dataset equals the uninterrupted two-rank run's (each rank's
     share of the external work is kept)."""
-    from test_parallel import mpirun
-
     case = pile()
     path = write_case(tmp_path, case, "pile")
     half = write_case(tmp_path, case.with_value("time.end", 0.01), "half")
@@ -224,3 +226,43 @@ def test_restart_on_two_ranks_bit_for_bit(tmp_path):
         p = mpirun("run", *args, "--quiet")
         assert p.returncode == 0, p.stderr
     assert_same_files(out, full)
+
+
+# ---- the last line's energy reference over the whole file -------------------
+
+def pulse_case(end):
+    """A free bar from rest pushed by a traction pulse at its left end and
+    pulled back: the external work rises, peaks (0.82 at t = 2.33) and
+    falls; the run's last line reports the energy change against that
+    peak (a run from rest)."""
+    pulse = [[0.0, 0.0], [1.0, 1.0], [2.0, -1.0], [3.0, 0.0]]
+    return make_case(0.01, end, [bar("bar", [0.0, 1.0], 10, E=1.0, rho=1.0)],
+                     bcs=[{"body": "bar", "end": "left", "type": "traction", "value": pulse}])
+
+
+def largest_total_energy(stdout):
+    """The reference of the energy change the run's last line prints."""
+    import re
+    last = stdout.strip().splitlines()[-1]
+    found = re.search(r"of the largest total energy (\S+)\)", last)
+    assert found, last
+    return found.group(1)
+
+
+def test_restart_takes_the_peak_energy_over_the_whole_file(tmp_path):
+    """Run to t = 2.5 (past the peak of the external work), continue to
+    t = 4 with --restart: the last line's largest total energy is the
+    uninterrupted run's (0.821266; it was the restarted part's, 0.795688)."""
+    from conftest import cli
+
+    full, half = write_case(tmp_path, pulse_case(4.0), "full"), \
+        write_case(tmp_path, pulse_case(2.5), "half")
+    one = cli("run", full, "-o", tmp_path / "one.h5", "--quiet")
+    assert one.returncode == 0, one.stderr
+    assert cli("run", half, "-o", tmp_path / "two.h5", "--quiet").returncode == 0
+    two = cli("run", full, "--restart", tmp_path / "two.h5", "--quiet")
+    assert two.returncode == 0, two.stderr
+    r = vstpetsc.Result(str(tmp_path / "one.h5"))
+    external = r.energy["external"]
+    assert external[r.time > 2.5].max() < 0.99 * external.max()   # the peak: in the first part
+    assert largest_total_energy(two.stdout) == largest_total_energy(one.stdout)

@@ -89,12 +89,14 @@ def test_close_inside_a_slab_is_not_rounded_to_its_ends(tmp_path):
 def test_every_newton_gives_the_compiled_events(tmp_path, options):
     """The compiled Newton (the default) against the Python one, the full
     Newton and SNES: the same events (the compiled path recomputes the
-    roots from its converged rates)."""
-    case = bar_wall("seed")
+    roots from its converged rates), on the first four impacts of
+    periodic-impacts (seed)."""
+    case = vstpetsc.Case.from_toml(bundled.path("periodic-impacts")).with_value("time.end",
+                                                                                2.0e-3)
     native = solve(tmp_path, case, "native").contact(0).events
     other = solve(tmp_path, case, "other", options=options).contact(0).events
     assert native.shape[0] > 2 and native.shape == other.shape
-    np.testing.assert_allclose(native, other, rtol=0, atol=1e-8 * DT)   # Newton tolerance
+    np.testing.assert_allclose(native, other, rtol=0, atol=1e-8 * case.dt)   # Newton tolerance
 
 
 def penalty_law(formulation="power"):
@@ -167,6 +169,55 @@ def test_periodic_impacts_every_three_transit_times(tmp_path):
     assert np.all(longer >= -3 * case.dt) and np.all(longer <= delay + 3 * case.dt)
 
 
+CONCRETE = dict(E=3.0e10, rho=2400.0)
+
+
+@pytest.mark.parametrize("formulation", ["seed", "power"])
+def test_a_block_resting_on_a_column_records_one_close(tmp_path, formulation):
+    """A block resting on a column under gravity from the static start,
+    400 slabs: the pair is closed at every slab end, so the events hold the
+    close at t = 0 and nothing else.  The seed's fixed point moves the
+    contact node inside each slab (tests/test_static_start.py): its gap
+    opens and closes again within every slab, which made 801 events (an
+    open and a close per slab); an opening that closes within its slab
+    changes nothing across a slab end and is not an event."""
+    dt = 10.0 / 50 / np.sqrt(CONCRETE["E"] / CONCRETE["rho"])
+    case = make_case(dt, 400 * dt, [bar("column", [0.0, 10.0], 50, **CONCRETE),
+                                    bar("block", [10.0, 12.0], 10, **CONCRETE)],
+                     contacts=[{"pair": ["column", "block"], "formulation": formulation}],
+                     bcs=[{"body": "column", "end": "left", "type": "fixed"}],
+                     gravity={"g": -9.81, "initial": "static"})
+    pair = solve(tmp_path, case).contact(0)
+    assert np.all(pair.gap[:] < 0.0) and np.all(pair.force[1:] > 0.0)
+    assert pair.events.tolist() == [[0.0, 1.0]]
+
+
+def test_seed_impact_is_one_contact(tmp_path):
+    """bar-wall with the seed formulation: one close and one open (the gap
+    opened and closed again inside nearly every slab of the impact: 388
+    events before), at the times the inner events had at either end."""
+    r = solve(tmp_path, bar_wall("seed"))
+    events = r.contact(0).events
+    assert events[:, 1].tolist() == [1.0, -1.0]
+    assert abs(events[0, 0] - G0 / V0) <= 1e-12 * G0 / V0
+    assert abs(events[1, 0] - RELEASE - compliance_delay(r, Z)) <= 3.0 * DT
+
+
+def test_an_opening_within_a_slab_of_a_closed_pair_is_no_event():
+    """A pair closed at both ends of a slab whose gap opens inside it (the
+    pieces where it acts (0, p) and (q, 1)): no event; a close inside a
+    slab of a pair open at both ends stays two events (a touch that passes
+    an impulse: tests above)."""
+    law = penalty_law()
+    law.closed = True
+    law.track(0.5, law.dt, [(0.0, 0.3), (0.7, 1.0)])
+    assert law.take_events().shape == (0, 2) and law.closed
+    law.track(0.5 + law.dt, law.dt, [(0.2, 0.4), (0.6, 0.8)])   # closed -> open at 0.8
+    assert law.take_events().tolist() == [[0.5 + 1.8 * law.dt, -1.0]]
+    law.track(0.5 + 2 * law.dt, law.dt, [(0.1, 0.2), (0.3, 0.4)])   # open -> open
+    assert law.take_events()[:, 1].tolist() == [1.0, -1.0]
+
+
 def stopped_in_contact(tmp_path, monkeypatch):
     """(case, its uninterrupted Result, the file of the same run stopped
     at slab 620, inside the contact)."""
@@ -225,9 +276,47 @@ def test_info_prints_the_contact_durations(tmp_path):
     assert f"{opens[0] - closes[0]:.6g} s (close {closes[0]:.6g}, open {opens[0]:.6g})" in line
 
 
+def info_durations(path):
+    """(total duration of the first line, total of the contacts' line,
+    [each contact's duration]) that `vstpetsc info` prints for pair 0."""
+    import re
+    p = cli("info", path)
+    assert p.returncode == 0, p.stderr
+    first = float(re.search(r"total duration (\S+),", p.stdout).group(1))
+    line, = [x for x in p.stdout.splitlines() if x.strip().startswith("contact[0]")]
+    total = re.search(r"contacts?, (?:total )?(\S+) s", line)
+    each = [float(x) for x in re.findall(r"(\S+) s \(close", line)]
+    return first, float(total.group(1)), each
+
+
+@pytest.mark.parametrize("name, end", [("dam-interface", None), ("bar-wall", 1.2e-3)])
+def test_info_counts_a_contact_still_closed_at_the_end(tmp_path, name, end):
+    """The bundled dam-interface (its third contact still closed when the
+    run ends: 1.711 s on one line, 1.06538 s on the other before) and
+    bar-wall cut inside its one contact: `info` prints one contact
+    duration on both lines, the sum of the contacts' spans from close to
+    open, or to the end of the run for the contact still closed."""
+    if name == "dam-interface":
+        case = vstpetsc.Case.from_toml(bundled.path(name))
+    else:
+        case = bar_wall("power", end=end)
+    r = solve(tmp_path, case)
+    events = r.contact(0).events
+    assert events[-1, 1] == 1.0                            # still closed at the end
+    t_end = r.time[-1]
+    closes, opens = events[events[:, 1] > 0, 0], np.append(events[events[:, 1] < 0, 0], t_end)
+    first, total, each = info_durations(r.path)
+    assert first == total
+    assert total == float(f"{np.sum(opens - closes):.6g}")
+    assert each == [float(f"{d:.6g}") for d in opens - closes]
+    assert r.summary()["pairs"][0]["duration"] == pytest.approx(np.sum(opens - closes),
+                                                                 rel=1e-14)
+
+
 def test_info_keeps_many_contacts_short(tmp_path):
-    """Many contacts: the total and the first three only."""
-    r = solve(tmp_path, bar_wall("seed"))
+    """Many contacts (periodic-impacts: nine): the total and the first
+    three only."""
+    r = solve(tmp_path, vstpetsc.Case.from_toml(bundled.path("periodic-impacts")))
     events = r.contact(0).events
     n = int((events[:, 1] > 0).sum())
     assert n > 3

@@ -245,3 +245,119 @@ def test_every_on_the_command_line_beyond_64_bits_is_refused(tmp_path):
     p = cli("run", case, "-o", tmp_path / "r.h5", "--every", str(2 ** 63))
     assert p.returncode == 2 and one_clean_line(p.stderr) and "--every" in p.stderr
     assert not (tmp_path / "r.h5").exists()
+
+
+# -- issue 35 item 1: recorded samples against the limits of inline values --
+
+def record_text(form, samples):
+    """A record file's text holding ``samples`` [(t, value)]: CSV with a
+    header, or AT2 (times k dt: ``samples`` must be evenly spaced)."""
+    if form == "csv":
+        return "t,acc\n" + "".join(f"{t!r},{v!r}\n" for t, v in samples)
+    dt = samples[1][0] - samples[0][0]
+    return ("PEER NGA STRONG MOTION DATABASE RECORD\nsynthetic\nUNITS OF G\n"
+            f"NPTS= {len(samples)}, DT= {dt!r} SEC\n" + "  ".join(repr(v) for _, v in samples))
+
+
+def refused_without_warnings(tmp_path, value, *words):
+    """Exit 2, stderr exactly one line holding ``words``, no numpy warning."""
+    path = record_case(tmp_path, value)
+    p = cli("run", path, "-o", tmp_path / "r.h5")
+    assert p.returncode == 2 and "Warning" not in p.stderr, p.stderr
+    assert len(p.stderr.splitlines()) == 1 and one_clean_line(p.stderr), p.stderr
+    assert all(w in p.stderr for w in words), p.stderr
+    assert not (tmp_path / "r.h5").exists()
+
+
+HUGE_SAMPLES = {"values": [(0.0, 0.0), (1.0, 1e308), (2.0, 1e308), (3.0, -1e308)],
+                "beyond 1e150": [(0.0, 0.0), (1.0, 2e150), (2.0, 1.0), (3.0, 0.0)]}
+
+
+@pytest.mark.parametrize("integrate", [True, False])
+@pytest.mark.parametrize("form", ["csv", "AT2"])
+@pytest.mark.parametrize("samples", HUGE_SAMPLES.values(), ids=HUGE_SAMPLES.keys())
+def test_record_samples_beyond_the_inline_limits_are_refused(tmp_path, samples, form,
+                                                             integrate):
+    """Samples an inline table refuses (exit 2, "must lie in 1e-150 ..
+    1e+150") are refused from a file too, naming the key, the file and the
+    sample, before numpy ever sees them (four warning lines before)."""
+    (tmp_path / f"m.{form}").write_text(record_text(form, samples))
+    where = "row 3" if form == "csv" else "sample 2"
+    limits = "must lie in 1e-150 .. 1e+150 in magnitude (or be 0)"
+    refused_without_warnings(tmp_path, {"file": f"m.{form}", "integrate": integrate},
+                             "bc[0].value.file:", f"m.{form}, {where}: {limits}",
+                             f"got {samples[1][1]:g}")
+    inline = {"table": [list(s) for s in samples], "integrate": integrate}
+    refused_without_warnings(tmp_path, inline, "bc[0].value.table row 1:", limits)
+
+
+def test_csv_times_beyond_the_inline_limits_are_refused(tmp_path):
+    (tmp_path / "m.csv").write_text("0,0\n1e200,1\n")
+    refused_without_warnings(tmp_path, {"file": "m.csv"}, "bc[0].value.file:",
+                             "m.csv, row 2: must lie in 1e-150 .. 1e+150", "got 1e+200")
+
+
+@pytest.mark.parametrize("form", ["file", "table"])
+def test_a_record_that_overflows_once_integrated_is_refused(tmp_path, form):
+    """Samples within the limits whose exact integral a double cannot hold
+    (a slope of 1e150 / 1e-200 between two samples; a scale of 1e150 on
+    values of 1e150 integrated over a time of 1e150): one line, from a file
+    or inline alike, instead of numpy's warnings and a failed run."""
+    for samples, scale in (([(0.0, 0.0), (1e-200, 1e150), (1.0, 0.0)], 1.0),
+                           ([(0.0, 1e150), (1e150, 1e150)], 1e150)):
+        if form == "file":
+            (tmp_path / "m.csv").write_text(record_text("csv", samples))
+            value = {"file": "m.csv"}
+        else:
+            value = {"table": [list(s) for s in samples]}
+        refused_without_warnings(tmp_path, {**value, "scale": scale, "integrate": True},
+                                 f"bc[0].value: scaled by {scale:g} and integrated",
+                                 "beyond the range of a double")
+
+
+# -- issue 35 item 5: the vectorised CSV reader reads what the rows did -----
+
+ODD_CSV = {
+    "plain": "t,a\n0,1\n1,2\n2,3\n", "no header": "0,1\n1,2\n",
+    "crlf": "t,a\r\n0,1\r\n1,2\r\n", "cr": "t,a\r0,1\r1,2\r",
+    "blank lines": "\n\nt,a\n\n0,1\n   \n1,2\n,,\n2,5\n", "spaces": "t , a\n 0 , 1 \n 1\t, 2\n",
+    "quoted": 't,a\n"0","1"\n"1",2\n', "trailing comma": "t,a,\n0,1,\n1,2,\n",
+    "ragged": "t,a,b\n0,1,5\n1,2\n", "underscore": "t,a\n0,1_0\n1,2\n",
+    "unicode minus": "t,a\n0,\u22121\n1,2\n", "no-break space": "t,a\n0,\u00a01\n1,2\n",
+    "empty cell": "t,a\n0,\n1,2\n", "nan": "t,a\n0,nan\n1,2\n", "text": "t,a\n0,1\n1,x\n",
+    "text time": "t,a\n0,1\nx,1\n", "hex": "t,a\n0,0x10\n1,2\n", "fortran": "t,a\n0,1d5\n1,2\n",
+    "signs and dots": "t,a\n+0.,.5\n1.,-2e-3\n", "one row": "t,a\n0,1\n", "header only": "t,a\n",
+    "empty": "", "blank only": "\n  \n,\n", "decreasing": "0,1\n1,2\n0.5,3\n",
+    "nul": "t,a\n0,1\x00\n1,2\n", "comment": "t,a\n0,1 # c\n1,2\n", "tabs": "t\ta\n0\t1\n",
+    "vertical tab": "t,a\n0,\x0b1\n1,2\n", "line separator": "t,a\n0,1\u2028\n1,2\n",
+    "byte order mark": "\ufefft,a\n0,1\n1,2\n", "text column": "t,a,note\n0,1,hi\n1,2,yo\n",
+    "overflow": "t,a\n0,1e400\n1,2\n", "numeric header": "1,2\n0,1\n",
+    "empty lines": "t,a\n\n0,1\n\n\n1,2\n\n", "infinity": "t,a\n0,-Infinity\n1,2\n",
+    "arabic digit": "t,a\n0,\u0661\n1,2\n", "cut exponent": "t,a\n0,1e+\n1,2\n",
+    "blank cell": "t,a\n0, \n1,2\n", "minus zero": "t,a\n-0,-0.0\n1,2\n",
+    "huge time": "0,0\n1e200,1\n", "more cells than the header": "t,a\n0,1,7\n1,2,8\n",
+}
+
+
+@pytest.mark.parametrize("text", ODD_CSV.values(), ids=ODD_CSV.keys())
+@pytest.mark.parametrize("column", [2, "a", 3])
+def test_csv_reader_equals_the_row_by_row_reading(tmp_path, text, column):
+    """The vectorised reader (numpy's loadtxt on plain files) gives the
+    samples, or the error, of the row-by-row reading (csv.reader) it falls
+    back to, for every file: blank lines, quotes, odd numbers, bad rows."""
+    path = tmp_path / "m.csv"
+    path.write_text(text, encoding="utf-8", newline="")
+
+    def outcome(read):
+        try:
+            return read()
+        except hist.RecordError as exc:
+            return str(exc)
+
+    fast = outcome(lambda: hist.read_csv(str(path), column))
+    rows = outcome(lambda: hist.read_csv_rows(str(path), column))
+    if isinstance(rows, str):
+        assert fast == rows
+    else:
+        assert not isinstance(fast, str), fast
+        assert all(np.array_equal(a, b) for a, b in zip(fast, rows))

@@ -10,6 +10,8 @@ import math
 import numbers
 import os
 
+import numpy as np
+
 from vstpetsc import history as hist
 from vstpetsc.history import History
 
@@ -62,7 +64,13 @@ class HistoryChecks:
         samples = self._samples(val, name)
         if samples is None or scale is None:
             return None
-        return hist.from_samples(*samples, scale=scale, integrate=integrate)
+        history = hist.from_samples(*samples, scale=scale, integrate=integrate)
+        if not history.finite:
+            how = f"scaled by {scale:g}" + (" and integrated" if integrate else "")
+            self.add(name, f"{how}, the record goes beyond the range of a double "
+                           f"(largest sample {np.abs(samples[1]).max():g})")
+            return None
+        return history
 
     def _samples(self, val, name):
         """(t, values) of a record's table or file, or None."""
@@ -84,8 +92,8 @@ class HistoryChecks:
         self.inputs.append(full)
         try:
             if path.upper().endswith(".AT2"):
-                return hist.read_at2(full)
-            return hist.read_csv(full, column)
+                return hist.read_at2(full, MAGNITUDE)
+            return hist.read_csv(full, column, MAGNITUDE)
         except hist.RecordError as exc:
             self.add(f"{name}.file", str(exc))
             return None

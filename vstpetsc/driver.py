@@ -32,7 +32,7 @@ class RunInfo:
     energy0: float      # kinetic + strain + spring at t = 0 (the file's first row)
     energy1: float      # kinetic + strain + spring at the last kept row
     numerical: float    # energy dissipated by the time discretisation so far
-    peak: float = 0.0   # largest |initial total + external work| at the kept rows
+    peak: float = 0.0   # largest |initial total + external work| at the kept rows of the file
 
 
 def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
@@ -181,7 +181,6 @@ class TimeLoop:
                 u, v = u + self.static.u, v + self.static.v
             self.energy.start(u, v)
         energy0 = self.energy.held0
-        self.peak = abs(self.energy.initial)
         self.solver.set_state(u, v, envelopes)
         if rhs is not None:
             self.solver.set_restart_state(rhs)
@@ -201,7 +200,7 @@ class TimeLoop:
         last = energy1 or {}
         return RunInfo(case.nslabs - k0, time.perf_counter() - self.start, energy0,
                        sum(last.get(k, 0.0) for k in HELD),
-                       last.get("numerical", 0.0), self.peak)
+                       last.get("numerical", 0.0), self.energy.peak)
 
     def _attrs(self, petsc_options):
         """The root attributes of the result file."""
@@ -233,7 +232,8 @@ class TimeLoop:
                 signum = self.space.max_over_ranks(stop.signum)
                 if k % case.every == 0 or k == n or signum:
                     energy1 = self.recorder.record(k, its)
-                    self._track_peak(energy1)
+                    if energy1 is not None:
+                        self.energy.track_peak(energy1)
                 progress.update(k - k0, t1, force=k == n)
                 if signum:
                     raise Interrupted(signum, f"stopped by {signal.Signals(signum).name} "
@@ -243,12 +243,6 @@ class TimeLoop:
             self._stop(exc, k)
         progress.done()
         return energy1
-
-    def _track_peak(self, row):
-        """The largest total energy (initial + external work) so far: the
-        reference of the energy change when the run starts with none."""
-        if row is not None:
-            self.peak = max(self.peak, abs(self.energy.initial + row["external"]))
 
     def _stop(self, exc, k):
         """End a run that stopped inside the loop: close the file with the

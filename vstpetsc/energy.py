@@ -29,6 +29,7 @@ class EnergyBook:
         self.model = model
         self.initial = 0.0              # the balance's start: state + stored contact energy
         self.held0 = 0.0                # kinetic + strain + spring at t = 0
+        self.peak = 0.0                 # largest |initial + external| at the kept rows
         self.offset = dict.fromkeys(SUMMED, 0.0)
         self.beyond0 = 0.0      # a soil's strain energy beyond 1/2 u^T K u at t = 0
         ops = model.ops
@@ -71,16 +72,21 @@ class EnergyBook:
             self.beyond0 = soil.stored_beyond_linear()
         self.held0 = sum(self.state(u, v).values()) + self.beyond0
         self.initial = self.held0 + stored
+        self.peak = abs(self.initial)
 
-    def restore(self, first, last, continued=False):
+    def restore(self, first, last, external=(), continued=False):
         """Continue a run from its file: ``first`` and ``last`` map the
-        energy datasets to their values in the first and the last row;
+        energy datasets to their values in the first and the last row,
+        ``external`` is the file's external work at every kept row (the
+        peak is the whole run's, not the restarted part's);
         ``continued``: the solver took its running sums back (the restart
         state), so only the stored contact energy of t = 0 is added, as in
         the run itself (bit for bit); otherwise the sums start from the
         rows' totals (equal to rounding)."""
         self.held0 = sum(float(first[k]) for k in HELD)
         self.initial = self.held0 + float(first["contact"])
+        totals = self.initial + np.asarray(external, dtype=float)
+        self.peak = float(np.abs(totals).max(initial=abs(self.initial)))
         if continued:
             self.offset = dict.fromkeys(SUMMED, 0.0)
             self.offset["contact"] = float(first["contact"])
@@ -88,6 +94,12 @@ class EnergyBook:
             self.offset = {k: float(last.get(k, 0.0)) for k in SUMMED}
         # the soil's loops are summed with its own state (restored with it)
         self.offset["hysteretic"] = 0.0
+
+    def track_peak(self, row):
+        """The largest |initial total + external work| at the kept rows so
+        far (``peak``): the reference of the energy change of a run that
+        starts with none (a body at rest under a load)."""
+        self.peak = max(self.peak, abs(self.initial + row["external"]))
 
     def row(self, u, v, totals, d=None, known=None):
         """{energy dataset: value} for the state (u, v) (d, known: see

@@ -8,21 +8,23 @@ NO_REFERENCE = 1e-12    # e0 below this fraction of the largest total energy is 
 LISTED_CONTACTS = 3     # contacts `info` lists one by one (then the total)
 
 
-def pair_summary(group, k):
+def pair_summary(group, k, t_end):
     """Contact history of pair k from its group of the result: the running
-    totals over every slab (their last kept value) and the kept gaps.
+    totals over every slab (their last kept value), the kept gaps and the
+    events; ``t_end`` is the time of the last row.
 
     Keys: name, formulation, penalty, first_contact (start of the first slab
-    with contact, nan: none), duration (total length of the slabs with
-    contact), episodes (runs of consecutive slabs with contact), peak_force
-    (largest slab-mean force), mean_force (total impulse / total contact
-    time), impulse (total), penetration (largest overlap at kept slab ends),
+    with contact, nan: none), duration (see :func:`contact_duration`),
+    episodes (runs of consecutive slabs with contact), peak_force
+    (largest slab-mean force), mean_force (total impulse / duration),
+    impulse (total), penetration (largest overlap at kept slab ends),
     contacts ([(close, open)] from the events, open nan while still closed;
     None for a file without events).
     """
     last = lambda key: float(group[key][-1])
     a = group.attrs
-    duration = last("contact_time")
+    spans = contact_spans(group["events"], t_end) if "events" in group.keys() else None
+    duration = contact_duration(spans, t_end, last("contact_time"))
     return {"name": text(a.get("pair", str(k))).replace(",", " | "),
             "formulation": text(a.get("formulation", "")),
             "penalty": float(a.get("penalty", np.nan)), "first_contact": last("first_contact"),
@@ -32,8 +34,18 @@ def pair_summary(group, k):
             "mean_force": last("impulse_total") / duration if duration > 0 else 0.0,
             "impulse": last("impulse_total"),
             "penetration": float(max(0.0, -group["gap"].min())),
-            "contacts": contact_spans(group["events"]) if "events" in group.keys() else None,
-            **slip_summary(group)}
+            "contacts": spans, **slip_summary(group)}
+
+
+def contact_duration(spans, t_end, slab_time):
+    """The one contact duration `info` and a sweep's summary give: the sum
+    of the contacts' spans from close to open, a contact still closed
+    counted to ``t_end`` (the end of the run); for a file without events
+    (spans None), ``slab_time``, the total length of the slabs with
+    contact."""
+    if spans is None:
+        return slab_time
+    return float(sum((t_end if np.isnan(o) else o) - c for c, o in spans))
 
 
 def slip_summary(group):
@@ -47,11 +59,12 @@ def slip_summary(group):
             "slip_max": float(np.abs(slip).max(initial=0.0))}
 
 
-def contact_spans(events):
-    """[(close, open)] of an (m, 2) events array (open nan for a contact
-    still closed at the end)."""
+def contact_spans(events, t_end):
+    """[(close, open)] of an (m, 2) events array up to ``t_end`` (a killed
+    run's file may hold events of slabs after its last row); open nan for
+    a contact still closed then."""
     spans = []
-    for t, change in events.tolist():
+    for t, change in events[events[:, 0] <= t_end].tolist():
         if change > 0:
             spans.append((t, np.nan))
         elif spans:
@@ -59,21 +72,23 @@ def contact_spans(events):
     return spans
 
 
-def contact_line(k, name, spans):
-    """`info`'s line of pair k's contacts: their number and each one's
-    duration (close to open); for many the total and the first few."""
+def contact_line(k, p, t_end):
+    """`info`'s line of pair k (its summary ``p``): the number of contacts
+    and each one's duration (close to open, or to ``t_end``, the end of the
+    run, for one still closed); for many the total and the first few."""
     def one(close, open_):
         if np.isnan(open_):
-            return f"still closed (close {close:.6g})"
+            return f"{t_end - close:.6g} s (close {close:.6g}, still closed at the end)"
         return f"{open_ - close:.6g} s (close {close:.6g}, open {open_:.6g})"
 
+    spans = p["contacts"]
     n = len(spans)
-    head = f"    contact[{k}] {name}: {n} contact{'' if n == 1 else 's'}"
+    head = f"    contact[{k}] {p['name']}: {n} contact{'' if n == 1 else 's'}"
     if n <= 1:
         return f"{head}, {one(*spans[0])}" if n else head
-    total = sum(o - c for c, o in spans if not np.isnan(o))
     listed = "; ".join(one(*s) for s in spans[:LISTED_CONTACTS])
-    return f"{head}, total {total:.6g} s; {listed}{', ...' if n > LISTED_CONTACTS else ''}"
+    return (f"{head}, total {p['duration']:.6g} s; {listed}"
+            f"{', ...' if n > LISTED_CONTACTS else ''}")
 
 
 def summarize(result):
@@ -83,7 +98,8 @@ def summarize(result):
     dt = float(a.get("dt", time[1] - time[0] if time.size > 1 else np.nan))
     every = int(a.get("every", 1))
     bodies = [body_summary(result, name) for name in result.bodies]
-    pairs = [pair_summary(result.contact(k), k) for k in range(result.ncontacts)]
+    t_end = float(time[-1]) if time.size else 0.0
+    pairs = [pair_summary(result.contact(k), k, t_end) for k in range(result.ncontacts)]
     energies = {key: result.energy[key] for key in result.energy}
     energy = energies["kinetic"] + energies["strain"] + energies.get("spring", 0.0)
     initial = float(sum(energies[k][0] for k in ("kinetic", "strain", "spring", "contact")
@@ -233,7 +249,7 @@ def format_summary(s, path):
                   f"        force peak {p['peak_force']:.6g}, mean {p['mean_force']:.6g}; "
                   f"impulse {p['impulse']:.6g}; largest penetration {p['penetration']:.4g}"]
         if p.get("contacts") is not None:
-            lines.append(contact_line(k, p["name"], p["contacts"]))
+            lines.append(contact_line(k, p, s["t_end"]))
         lines += slip_lines(p)
     e0, e1 = s["energy_start"], s["energy_end"]
     change = energy_change(e0, e1, s["energy"].get("numerical", 0.0), s.get("energy_peak", 0.0))
