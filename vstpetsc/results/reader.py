@@ -33,39 +33,10 @@ STEADY_READS = 20        # most outline reads of a file being written
 HDF5_ERRORS = (OSError, RuntimeError, KeyError)
 
 
-class Result:
-    """A result file of `vstpetsc run`.
-
-    Examples
-    --------
-    >>> r = Result("bar-wall.h5")                         # doctest: +SKIP
-    >>> r.time, r.body("bar").u, r.contact(0).force       # doctest: +SKIP
-    >>> r.energy["kinetic"], r.status, r.summary()        # doctest: +SKIP
-
-    Parameters
-    ----------
-    path : str
-        A file written by :func:`vstpetsc.run`; :class:`vstpetsc.InputError`
-        if it is missing or not a vstpetsc result.
-
-    A file that a run is writing shows the rows complete in every dataset
-    when the Result was made (every series as long as ``time``, the gauge
-    series as long as each other); a new Result shows the rows since.
-    """
-
-    def __init__(self, path):
-        self.path = str(path)
-        self._file = None                  # open for a session's reads
-        self._swmr = False                 # read in HDF5's SWMR mode (no retries)
-        if not os.path.isfile(self.path):
-            raise InputError(f"{self.path}: no such file")
-        try:
-            missing, self.bodies, self.ncontacts, self._rows, self._gauge_rows, self._names = \
-                self._steady_outline()
-        except HDF5_ERRORS + (ValueError, IndexError):
-            raise InputError(f"{self.path}: not an HDF5 file, or a damaged one") from None
-        if missing:
-            raise InputError(f"{self.path}: not a vstpetsc result (no {', '.join(missing)})")
+class FileReads:
+    """The reads of a result file that a run may be writing: each opens it
+    (or uses the session's open file) and reads what the Result's outline
+    names, cut to the rows complete (module docstring)."""
 
     def _steady_outline(self):
         """The file's outline; while a run holds a file it writes without
@@ -135,6 +106,41 @@ class Result:
         if self._names.get(name) not in ("series", "table"):
             return None
         return self._gauge_rows if layout.every_slab(name) else self._rows
+
+
+class Result(FileReads):
+    """A result file of `vstpetsc run`.
+
+    Examples
+    --------
+    >>> r = Result("bar-wall.h5")                         # doctest: +SKIP
+    >>> r.time, r.body("bar").u, r.contact(0).force       # doctest: +SKIP
+    >>> r.energy["kinetic"], r.status, r.summary()        # doctest: +SKIP
+
+    Parameters
+    ----------
+    path : str
+        A file written by :func:`vstpetsc.run`; :class:`vstpetsc.InputError`
+        if it is missing or not a vstpetsc result.
+
+    A file that a run is writing shows the rows complete in every dataset
+    when the Result was made (every series as long as ``time``, the gauge
+    series as long as each other); a new Result shows the rows since.
+    """
+
+    def __init__(self, path):
+        self.path = str(path)
+        self._file = None                  # open for a session's reads
+        self._swmr = False                 # read in HDF5's SWMR mode (no retries)
+        if not os.path.isfile(self.path):
+            raise InputError(f"{self.path}: no such file")
+        try:
+            missing, self.bodies, self.ncontacts, self._rows, self._gauge_rows, self._names = \
+                self._steady_outline()
+        except HDF5_ERRORS + (ValueError, IndexError):
+            raise InputError(f"{self.path}: not an HDF5 file, or a damaged one") from None
+        if missing:
+            raise InputError(f"{self.path}: not a vstpetsc result (no {', '.join(missing)})")
 
     def __getitem__(self, name):
         """The whole dataset ``name`` (e.g. "contact/0/gap") as an array."""

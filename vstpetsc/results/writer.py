@@ -249,62 +249,15 @@ class ResultWriter:
         empty ``events`` datasets, then renamed to ``path``; InputError if
         it cannot be.  ``expected``: (kept rows, gauge rows) the run writes
         at most (the first row included), if known."""
-        lock = OutputLock(path)
-        temp, f, fd, self = lock.new(), None, None, None
-        try:
-            f = open_to_write(temp, "w")
-            fd = os.open(temp, os.O_RDWR)
-            header = sum(np.asarray(a).nbytes for a in statics.values())
-            DiskReserve(fd).ensure(f.id.get_filesize(), header + MARGIN)
-            growing = _header(f, series, statics, groups, attrs, events, expected)
-            self = cls(f, lock, interval, fd, growing, expected)
-            self.append(first_row)
-            if self.gauges:
-                self.gauges.slot()[:] = [first_row[n] for n in self.gauges.names]
-            self.flush(snapshots, 0)
-            self.settle()
-            start_swmr(f)          # every object is made: readers may come
-            lock.publish(fd)
-        except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
-            hdf5_failed = (self.broken if self is not None else
-                           not isinstance(exc, (DiskFull, InputError)))
-            if self is not None:           # its block thread ends with the file
-                self.thread.stop()
-            _abandon(f, hdf5_failed)
-            if fd is not None and lock.fd is None:
-                os.close(fd)
-            lock.release()
-            if isinstance(exc, InputError):        # another run took the name
-                raise
-            raise InputError(f"output: cannot create {path}: {_reason(exc)}") from None
-        return self
+        return _create(cls, path, series, statics, groups, attrs, first_row, interval,
+                       snapshots, events, expected)
 
     @classmethod
     def reopen(cls, lock, attrs, interval=0.5, expected=None):
         """Append to an existing result file (a restart) whose
         :class:`OutputLock` the caller holds (and hands over); ``expected``
         as for :meth:`create`."""
-        path = lock.path
-        try:
-            f = open_to_write(path, "a")
-            DiskReserve(lock.fd).ensure(f.id.get_filesize(), MARGIN)
-            for k, v in attrs.items():
-                f.attrs[k] = v
-            f.attrs["status"] = "running"
-            f.attrs["restarts"] = int(f.attrs.get("restarts", 0)) + 1
-            self = cls(f, lock, interval, lock.fd, expected=expected)
-            if self.gauges:         # the run continues from its last kept slab
-                rows = int(f["solver/slab"][-1]) + 1
-                self.completed.write(self.n, min(rows, self.gauges.n))    # before the cut
-                f.flush()
-                self.gauges.truncate(rows)
-            self.completed.write(self.n, self._gauge_rows())
-            f.flush()
-            start_swmr(f)          # a file of the older format goes on without
-        except (OSError, RuntimeError, ValueError) as exc:
-            lock.release()
-            raise InputError(f"--restart: cannot append to {path}: {_reason(exc)}") from None
-        return self
+        return _reopen(cls, lock, attrs, interval, expected)
 
     def append(self, row):
         """Buffer one kept row; ``row`` maps every series name to its value."""
@@ -444,6 +397,65 @@ class ResultWriter:
         self.f.close()
         self.f = open_to_write(self.lock.path, "a")
         self.reserve.ensure(self.f.id.get_filesize(), MARGIN)
+
+
+def _create(cls, path, series, statics, groups, attrs, first_row, interval, snapshots,
+            events, expected):
+    """:meth:`ResultWriter.create` (``cls`` the writer's class)."""
+    lock = OutputLock(path)
+    temp, f, fd, writer = lock.new(), None, None, None
+    try:
+        f = open_to_write(temp, "w")
+        fd = os.open(temp, os.O_RDWR)
+        header = sum(np.asarray(a).nbytes for a in statics.values())
+        DiskReserve(fd).ensure(f.id.get_filesize(), header + MARGIN)
+        growing = _header(f, series, statics, groups, attrs, events, expected)
+        writer = cls(f, lock, interval, fd, growing, expected)
+        writer.append(first_row)
+        if writer.gauges:
+            writer.gauges.slot()[:] = [first_row[n] for n in writer.gauges.names]
+        writer.flush(snapshots, 0)
+        writer.settle()
+        start_swmr(f)          # every object is made: readers may come
+        lock.publish(fd)
+    except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
+        hdf5_failed = (writer.broken if writer is not None else
+                       not isinstance(exc, (DiskFull, InputError)))
+        if writer is not None:           # its block thread ends with the file
+            writer.thread.stop()
+        _abandon(f, hdf5_failed)
+        if fd is not None and lock.fd is None:
+            os.close(fd)
+        lock.release()
+        if isinstance(exc, InputError):        # another run took the name
+            raise
+        raise InputError(f"output: cannot create {path}: {_reason(exc)}") from None
+    return writer
+
+
+def _reopen(cls, lock, attrs, interval, expected):
+    """:meth:`ResultWriter.reopen` (``cls`` the writer's class)."""
+    path = lock.path
+    try:
+        f = open_to_write(path, "a")
+        DiskReserve(lock.fd).ensure(f.id.get_filesize(), MARGIN)
+        for k, v in attrs.items():
+            f.attrs[k] = v
+        f.attrs["status"] = "running"
+        f.attrs["restarts"] = int(f.attrs.get("restarts", 0)) + 1
+        writer = cls(f, lock, interval, lock.fd, expected=expected)
+        if writer.gauges:         # the run continues from its last kept slab
+            rows = int(f["solver/slab"][-1]) + 1
+            writer.completed.write(writer.n, min(rows, writer.gauges.n))    # before the cut
+            f.flush()
+            writer.gauges.truncate(rows)
+        writer.completed.write(writer.n, writer._gauge_rows())
+        f.flush()
+        start_swmr(f)          # a file of the older format goes on without
+    except (OSError, RuntimeError, ValueError) as exc:
+        lock.release()
+        raise InputError(f"--restart: cannot append to {path}: {_reason(exc)}") from None
+    return writer
 
 
 def _track(growing, most=BUFFER_ROWS):
