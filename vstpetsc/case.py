@@ -115,11 +115,16 @@ class Case:
         ``contact.<k>.<key>``, ``bc.<k>.<key>``, ``soil.<k>.<key>`` (k counts
         from 0 in case order); deeper keys (``body.bar.damping.alpha``) too.
         """
-        self.check_path(path)
-        doc = self.to_dict()
-        table, key = _locate(doc, path)
+        doc, created = self.to_dict(), []
+        table, key = _locate(doc, path, created)
+        fresh = created or key not in table
         table[key] = value
-        return Case(doc, source=self.source, folder=self.folder)
+        try:
+            return Case(doc, source=self.source, folder=self.folder)  # built once
+        except CaseError as exc:
+            if fresh:
+                _raise_if_unknown(exc, path, created, key)
+            raise
 
     def check_path(self, path):
         """CaseError unless ``path`` can name a value (see :meth:`with_value`):
@@ -133,11 +138,7 @@ class Case:
         try:
             Case(doc, source=self.source, folder=self.folder)
         except CaseError as exc:
-            for new in created + [key]:
-                unknown = _unknown_key(exc.problems, new)
-                if unknown is not None:
-                    what = "unknown key" if new == key else f"unknown key {new!r}"
-                    raise CaseError([f"{path}: {what}{unknown}"]) from None
+            _raise_if_unknown(exc, path, created, key)
 
     @property
     def output_file(self):
@@ -262,3 +263,14 @@ def _plain(obj):
     if isinstance(obj, numbers.Real):
         return float(obj)
     return obj
+
+
+def _raise_if_unknown(exc, path, created, key):
+    """CaseError naming ``path`` if the problems of ``exc`` (a case built
+    with ``key`` set, its tables ``created``) include an unknown key among
+    them, with the closest allowed one."""
+    for new in created + [key]:
+        unknown = _unknown_key(exc.problems, new)
+        if unknown is not None:
+            what = "unknown key" if new == key else f"unknown key {new!r}"
+            raise CaseError([f"{path}: {what}{unknown}"]) from None
