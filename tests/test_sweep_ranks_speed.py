@@ -41,8 +41,11 @@ def logged(case, values, path, options, comm):
     row = real(case, values, path, options, comm)
     inside[0] += cpu() - c
     inside[1] += time.perf_counter() - w
-    with open(f'{sys.argv[2]}.ran.{petsc.rank()}', 'w') as f:
+    # whole or not at all: the other rank may read it at any moment
+    name = f'{sys.argv[2]}.ran.{petsc.rank()}'
+    with open(name + '.part', 'w') as f:
         f.write(json.dumps(ran))
+    os.replace(name + '.part', name)
     return row
 
 HOLD
