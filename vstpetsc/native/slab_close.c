@@ -101,3 +101,53 @@ void vst_close(Close *c)
     }
     pairs_state(c, nodes_state(c));
 }
+
+/* b += G z on the two dof rows of a rank's end node, the neighbour's z
+ * given (a ghost node of the next or previous rank, or an owned one):
+ * the operations of band_rows in its order. */
+static inline void end_rows(const Close *c, int r0, const double *left, const double *right)
+{
+    const double *x = c->x;
+    for (int k = 0; k < 2; k++) {
+        int r = r0 + k;
+        double s = 0.0;
+        if (left)
+            s += c->left[r] * (left[k] - x[r]);
+        s += c->diag[r] * x[r];
+        if (right)
+            s += c->right[r] * (right[k] - x[r]);
+        c->b[r] += s;
+    }
+}
+
+/* The end of a slab on one of several ranks, over its owned nodes: ghost
+ * = (z of the node before the first, z of the node after the last, the
+ * displacement of that next node after this slab); has_left, has_right:
+ * whether those nodes exist.  The same operations as vst_close and as the
+ * Python path (petsc/slab_end.py) on several ranks, so every number of
+ * ranks gives the same bits; the elongation of the pair that ends on the
+ * next rank's node is the last of d, lo, hi.  The energies are left to
+ * the EnergyBook (they need the neighbours' terms). */
+void vst_close_ghosted(Close *c, const double *ghost, int has_left, int has_right)
+{
+    int n = c->nodes;
+    if (n < 1)
+        return;
+    const double *x = c->x;
+    const double *zl = has_left ? ghost : 0, *zr = has_right ? ghost + 2 : 0;
+    if (n == 1) {
+        end_rows(c, 0, zl, zr);
+    } else {
+        end_rows(c, 0, zl, x + 2);
+        band_rows(c, 2, 2 * n - 2, 1, 1);
+        end_rows(c, 2 * n - 2, x + 2 * n - 4, zr);
+    }
+    nodes_state(c);
+    pairs_state(c, 0.0);
+    if (has_right) {
+        double dp = ghost[4] - c->u[n - 1];
+        c->d[n - 1] = dp;
+        c->lo[n - 1] = dp < c->lo[n - 1] ? dp : c->lo[n - 1];
+        c->hi[n - 1] = dp > c->hi[n - 1] ? dp : c->hi[n - 1];
+    }
+}
