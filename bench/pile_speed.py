@@ -1,5 +1,5 @@
 """Pile driving at equal accuracy: the bundled `pile` blow with vstpetsc
-against the explicit lumped-mass Smith method (tests/references/smith.py), and the
+against the explicit lumped-mass Smith method (bench/smith.py), and the
 cost of a soil slab against the floor.
 
 - The converged set: Smith's sequence converges at first order in dx
@@ -34,9 +34,7 @@ import numpy as np
 
 import overhead
 import readme
-
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
-from references import smith  # noqa: E402
+import smith
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SECTION = "## Pile driving at equal accuracy: against the explicit Smith method"

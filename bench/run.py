@@ -19,13 +19,12 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))  # references
 
 import limit  # noqa: E402
 import overhead  # noqa: E402
 import peer   # noqa: E402
 from readme import keep_others  # noqa: E402
-from references import smith  # noqa: E402
+import smith  # noqa: E402
 
 TARGETS = (1e-4, 1e-6, 1e-8)
 
@@ -160,7 +159,7 @@ def pile_section(res):
         "The bundled `pile` blow (20 m steel pipe pile, 3 t ram at 4.43 m/s, cushion, "
         "Smith soil of 1.5 MN) with vstpetsc (the whole run, file included) and with the "
         "classical explicit lumped-mass algorithm of Smith (1960) written in numpy "
-        "(tests/references/smith.py, dt = dx / 2c, best of 3).",
+        "(bench/smith.py, dt = dx / 2c, best of 3).",
         ("method", "resolution", "steps", "set [mm]", "compression [MPa]", "tension [MPa]",
          "transferred [kJ]", "wall [s]"))
     for key, label in (("vstpetsc", "elements"), ("smith", "segments")):

@@ -4,7 +4,7 @@
 shaking with one cycle of 3 sin(2 pi t) m/s^2) swept with ``vstpetsc.sweep``
 over ``contact.0.friction`` (ky = mu) for the record and the record reversed
 (``contact.0.wall_shear_velocity.scale = -1``), against Newmark's rigid block
-(tests/references/sliding_block.py) on the same ground motion: the case integrates the
+(bench/sliding_block.py) on the same ground motion: the case integrates the
 acceleration samples exactly, so the ground acceleration is the record's,
 linear between samples.
 
@@ -35,8 +35,7 @@ import vstpetsc
 from vstpetsc import bundled
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))  # references
-from references.sliding_block import UNIFORM_SHEAR_COLUMN, coupled_single_mode, newmark  # noqa: E402
+from sliding_block import UNIFORM_SHEAR_COLUMN, coupled_single_mode, newmark  # noqa: E402
 
 G_ACC = 9.81
 FIGURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
