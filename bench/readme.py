@@ -17,19 +17,3 @@ def write_readme(path, text):
         new = old[:start] + text + ("" if rest < 0 else "\n" + old[rest + 1:])
     with open(path, "w") as f:
         f.write(new)
-
-
-def sections(text):
-    """{"## Title" line: the section's text} of a README, in order."""
-    parts = ("\n" + text).split("\n## ")[1:]
-    return {"## " + p.split("\n", 1)[0]: ("## " + p).rstrip("\n") + "\n" for p in parts}
-
-
-def keep_others(path, text):
-    """``text`` (a whole README that bench/run.py writes) followed by the
-    sections of the README at ``path`` that ``text`` has not: those the
-    benchmarks after bench/run.py wrote (OpenSees, sweeps, ...)."""
-    old = open(path).read() if os.path.exists(path) else ""
-    own = sections(text)
-    kept = [body for title, body in sections(old).items() if title not in own]
-    return "\n".join([text.rstrip("\n") + "\n"] + kept)

@@ -23,7 +23,6 @@ sys.path.insert(0, HERE)
 import limit  # noqa: E402
 import overhead  # noqa: E402
 import peer   # noqa: E402
-from readme import keep_others  # noqa: E402
 import smith  # noqa: E402
 
 TARGETS = (1e-4, 1e-6, 1e-8)
@@ -381,10 +380,8 @@ def main(argv=None):
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
-    path = os.path.join(args.out, "README.md")
-    text = keep_others(path, readme(res))      # the other benchmarks' sections stay
-    with open(path, "w") as f:
-        f.write(text)
+    with open(os.path.join(args.out, "README.md"), "w") as f:
+        f.write(readme(res))
     print(f"wrote {args.out}/results.json and README.md")
     return 0 if finite(res) else 1
 

@@ -63,25 +63,3 @@ def test_the_parallel_benchmarks_start_no_mpi_themselves():
     p = subprocess.run([sys.executable, "-c", code], cwd=os.path.join(ROOT, "bench"),
                        capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
-
-
-def test_readme_only_keeps_the_other_benchmarks_sections(tmp_path):
-    """bench/run.py --readme-only rewrites its own sections from
-    results.json and keeps those the later benchmarks wrote (it dropped the
-    OpenSees section)."""
-    import shutil
-    import subprocess
-    import sys
-
-    from conftest import ROOT
-
-    shutil.copy(f"{ROOT}/bench/results.json", tmp_path / "results.json")
-    others = "## Against OpenSees\n\nrows\n\n## Sweeps on two ranks\n\nmore rows\n"
-    (tmp_path / "README.md").write_text("# Benchmarks\n\n## Against the physical limit\n\n"
-                                        "old\n\n" + others)
-    p = subprocess.run([sys.executable, "run.py", "--readme-only", "--out", str(tmp_path)],
-                       cwd=f"{ROOT}/bench", capture_output=True, text=True, timeout=120)
-    assert p.returncode == 0, p.stderr
-    text = (tmp_path / "README.md").read_text()
-    assert text.endswith(others) and text.count("## Against the physical limit") == 1
-    assert "\nold\n" not in text
