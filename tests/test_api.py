@@ -144,20 +144,3 @@ def test_examples_api_script(tmp_path):
     for _, peak, mean, zv0, _ in (map(float, r) for r in rows):
         assert abs(mean / zv0 - 1) < 0.03 and peak >= mean
     assert len(list(tmp_path.glob("*.h5"))) == 3
-
-
-@pytest.mark.parametrize("path, value", [("body.bar.area", 2.0), ("time.dt", 0.02),
-                                         ("body.bar.damping", {"alpha": 1.0})])
-def test_with_value_builds_the_case_once(path, value, monkeypatch):
-    """Case.with_value validates the new case once, for a key the case
-    gives and for one it leaves to its default (built twice before)."""
-    case = vstpetsc.Case.from_dict({"time": {"dt": 0.01, "end": 0.1},
-                                    "body": [bar("bar", [0.0, 1.0], 4)]})
-    built = []
-    real = vstpetsc.Case.__init__
-    monkeypatch.setattr(vstpetsc.Case, "__init__",
-                        lambda self, *a, **k: (built.append(1), real(self, *a, **k))[1])
-    changed = case.with_value(path, value)
-    assert len(built) == 1 and changed.to_dict() != case.to_dict()
-    with pytest.raises(vstpetsc.CaseError, match="body.bar.aera: unknown key .did you mean 'area'"):
-        case.with_value("body.bar.aera", 2.0)

@@ -115,16 +115,11 @@ class Case:
         ``contact.<k>.<key>``, ``bc.<k>.<key>``, ``soil.<k>.<key>`` (k counts
         from 0 in case order); deeper keys (``body.bar.damping.alpha``) too.
         """
-        doc, created = self.to_dict(), []
-        table, key = _locate(doc, path, created)
-        fresh = created or key not in table
+        self.check_path(path)
+        doc = self.to_dict()
+        table, key = _locate(doc, path)
         table[key] = value
-        try:
-            return Case(doc, source=self.source, folder=self.folder)  # built once
-        except CaseError as exc:
-            if fresh:
-                _raise_if_unknown(exc, path, created, key)
-            raise
+        return Case(doc, source=self.source, folder=self.folder)
 
     def check_path(self, path):
         """CaseError unless ``path`` can name a value (see :meth:`with_value`):
@@ -138,7 +133,11 @@ class Case:
         try:
             Case(doc, source=self.source, folder=self.folder)
         except CaseError as exc:
-            _raise_if_unknown(exc, path, created, key)
+            for new in created + [key]:
+                unknown = _unknown_key(exc.problems, new)
+                if unknown is not None:
+                    what = "unknown key" if new == key else f"unknown key {new!r}"
+                    raise CaseError([f"{path}: {what}{unknown}"]) from None
 
     @property
     def output_file(self):
@@ -263,14 +262,3 @@ def _plain(obj):
     if isinstance(obj, numbers.Real):
         return float(obj)
     return obj
-
-
-def _raise_if_unknown(exc, path, created, key):
-    """CaseError naming ``path`` if the problems of ``exc`` (a case built
-    with ``key`` set, its tables ``created``) include an unknown key among
-    them, with the closest allowed one."""
-    for new in created + [key]:
-        unknown = _unknown_key(exc.problems, new)
-        if unknown is not None:
-            what = "unknown key" if new == key else f"unknown key {new!r}"
-            raise CaseError([f"{path}: {what}{unknown}"]) from None
