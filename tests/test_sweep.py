@@ -102,33 +102,3 @@ def test_capacity_sweep_draws_a_bearing_graph(tmp_path):
     assert np.all(np.diff(data["blow_count_0"]) > 0)
     p = cli("plot", out / "summary.csv", "-o", tmp_path / "bearing.png")
     assert p.returncode == 0 and (tmp_path / "bearing.png").stat().st_size > 10000, p.stderr
-
-
-def test_a_sweep_leaves_no_lock_file_behind(tmp_path):
-    """The folder's .sweep.lock is removed when a sweep ends (it stayed)."""
-    out = tmp_path / "s"
-    vstpetsc.sweep(wall_case(), {"body.bar.v0": [0.5, 1.0]}, str(out))
-    assert sorted(os.listdir(out)) == ["run-0.h5", "run-1.h5", "summary.csv"]
-
-
-def test_a_lock_on_a_removed_lock_file_is_taken_again_on_the_new_one(tmp_path):
-    """A sweep that opened the lock file as the sweep before it removed it
-    gets the removed file's lock: it lets it go and locks the new file, so
-    two sweeps never hold the folder at once."""
-    import fcntl
-    import importlib
-
-    sw = importlib.import_module("vstpetsc.sweep")     # the module, not the function
-    folder = tmp_path / "s"
-    first = sw._take_folder(str(folder))
-    late = os.open(folder / sw.LOCK, os.O_RDWR)          # opened before the removal
-    sw._release_folder(str(folder), first)
-    assert not (folder / sw.LOCK).exists()
-    fcntl.flock(late, fcntl.LOCK_EX | fcntl.LOCK_NB)      # the removed file's lock
-    assert not sw._same_file(late, str(folder / sw.LOCK))
-    os.close(late)
-    second = sw._take_folder(str(folder))
-    assert sw._same_file(second, str(folder / sw.LOCK))
-    with pytest.raises(vstpetsc.InputError, match="another sweep"):
-        sw._take_folder(str(folder))
-    sw._release_folder(str(folder), second)

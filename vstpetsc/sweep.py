@@ -169,25 +169,19 @@ def sweep(case, settings, folder, options=(), comm=None, ranks_per_run=1):
     lock = None
     try:
         lock = _on_root(comm, lambda: _take_folder(folder))
-        rows = _shared_runs(case, combos, folder, options, comm, group)
+        queue = RunQueue(comm, group, len(combos))
+        try:
+            mine = _share(comm, lambda: _my_runs(case, combos, folder, options, group, queue))
+        finally:
+            queue.free()
+        parts = comm.allgather(mine)
+        rows = [next(p[i] for p in parts if i in p) for i in range(len(combos))]
         _on_root(comm, lambda: _write_summary_or_fail(folder, rows, list(settings)))
     finally:
         if lock is not None:
-            _release_folder(folder, lock)
+            os.close(lock)
         group.Free()
     return rows
-
-
-def _shared_runs(case, combos, folder, options, comm, group):
-    """The rows of every combination, in order, on every rank: the groups
-    of ranks take runs from a shared queue."""
-    queue = RunQueue(comm, group, len(combos))
-    try:
-        mine = _share(comm, lambda: _my_runs(case, combos, folder, options, group, queue))
-    finally:
-        queue.free()
-    parts = comm.allgather(mine)
-    return [next(p[i] for p in parts if i in p) for i in range(len(combos))]
 
 
 def _my_runs(case, combos, folder, options, group, indices):
@@ -216,43 +210,19 @@ def _take_folder(folder):
     """Make ``folder`` and lock it for this sweep (a descriptor holding an
     flock on ``folder/.sweep.lock``, which dies with the process): a second
     sweep into the same folder would take the runs' files from under this
-    one and call its completed runs failed.  The sweep removes the file
-    when it ends (:func:`_release_folder`): a lock taken on a file that was
-    removed meanwhile is let go and taken again on the new one."""
-    path = os.path.join(folder, LOCK)
-    for _ in range(100):
-        try:
-            os.makedirs(folder, exist_ok=True)
-            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-        except OSError as exc:
-            raise InputError(f"-o {folder}: cannot write there ({exc.strerror})") from None
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            os.close(fd)
-            raise InputError(f"-o {folder}: the folder is being used by another sweep; "
-                             "nothing was changed") from None
-        if _same_file(fd, path):
-            return fd
-        os.close(fd)              # the sweep before removed it as this one opened it
-    raise InputError(f"-o {folder}: cannot lock {path}")
-
-
-def _same_file(fd, path):
+    one and call its completed runs failed."""
     try:
-        return os.path.samestat(os.fstat(fd), os.stat(path))
-    except FileNotFoundError:
-        return False
-
-
-def _release_folder(folder, fd):
-    """Remove the lock file, then let the lock go (the next sweep into the
-    folder makes a new one)."""
+        os.makedirs(folder, exist_ok=True)
+        fd = os.open(os.path.join(folder, LOCK), os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError as exc:
+        raise InputError(f"-o {folder}: cannot write there ({exc.strerror})") from None
     try:
-        os.unlink(os.path.join(folder, LOCK))
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except OSError:
-        pass
-    os.close(fd)
+        os.close(fd)
+        raise InputError(f"-o {folder}: the folder is being used by another sweep; "
+                         "nothing was changed") from None
+    return fd
 
 
 def _write_summary_or_fail(folder, rows, keys):
