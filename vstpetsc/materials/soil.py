@@ -7,7 +7,6 @@ Pure numpy; :mod:`vstpetsc.petsc.material_newton` solves the slab with it.
 import numpy as np
 
 from vstpetsc.materials import masing, mkz
-from vstpetsc.stiffness import exact_row_sums
 
 HEAD = 3          # work, support work, the stored energy at t = 0
 PARTS = 6         # per element: gamma, tau, direction, depth, tau_min, tau_max
@@ -35,6 +34,8 @@ class HystereticSoil:
     @classmethod
     def of(cls, parts, mesh):
         """From {twin body: parts}."""
+        from vstpetsc.model import exact_row_sums
+
         mid = 0.5 * (mesh.x[mesh.elem_node] + mesh.x[mesh.elem_node + 1])
         chosen = np.zeros(mid.size, dtype=bool)
         params = [np.ones(mid.size) for _ in mkz.PARAMETERS]

@@ -283,8 +283,3 @@ def last_state(f, model):
         laws[law.group]["closed"] = count > 0 and f[name][count - 1, 1] > 0
     energies = [{key.split("/")[1]: f[key][i] for key in ENERGY} for i in (0, -1)]
     return k, u, v, laws, energies[0], energies[1]
-
-
-def text(value):
-    """An HDF5 attribute as a str (h5py may hand back bytes)."""
-    return value.decode() if isinstance(value, bytes) else str(value)
