@@ -27,7 +27,7 @@ runs in a child process (openseespy and petsc4py crash in one process),
 started before PETSc is imported.
 
 Writes bench/opensees.json and the section "Against OpenSees" of
-bench/README.md (after bench/run.py, which rewrites that file).
+bench/README.md (after bench/run.py, which writes the head and its own sections).
 """
 
 import argparse

@@ -1,7 +1,11 @@
 """Benchmarks of vstpetsc: `make bench` (full, writes bench/results.json and
 bench/README.md) and `make bench-quick` (small sizes, under a minute).
 
-    python bench/run.py [--quick] [--out FOLDER]
+    python bench/run.py [--quick] [--out FOLDER] [--readme-only]
+
+README.md: the head and this script's sections, then the sections the
+benchmarks after it write (bench/readme.py), kept as they are;
+--readme-only rewrites this script's part from results.json alone.
 
 Every ratio is measured in one run on one machine; repeated timings report
 min and median.  Speed is reported, never asserted.
@@ -24,6 +28,7 @@ import limit  # noqa: E402
 import overhead  # noqa: E402
 import peer   # noqa: E402
 import smith  # noqa: E402
+from readme import with_other_sections  # noqa: E402
 
 TARGETS = (1e-4, 1e-6, 1e-8)
 
@@ -372,17 +377,22 @@ def main(argv=None):
     ap.add_argument("--readme-only", action="store_true",
                     help="rewrite README.md from the existing results.json")
     args = ap.parse_args(argv)
+    json_path, readme_path = (os.path.join(args.out, name) for name in ("results.json",
+                                                                       "README.md"))
     if args.readme_only:
-        with open(os.path.join(args.out, "results.json")) as f:
+        with open(json_path) as f:
             res = json.load(f)
     else:
         res = measure(args.quick)
-    os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "results.json"), "w") as f:
-        json.dump(res, f, indent=1)
-    with open(os.path.join(args.out, "README.md"), "w") as f:
-        f.write(readme(res))
-    print(f"wrote {args.out}/results.json and README.md")
+        os.makedirs(args.out, exist_ok=True)
+        with open(json_path, "w") as f:
+            json.dump(res, f, indent=1)
+    # the other benchmarks' sections stay: `make bench` replaces them after
+    # this, --readme-only not at all
+    text = with_other_sections(readme_path, readme(res))
+    with open(readme_path, "w") as f:
+        f.write(text)
+    print(f"wrote {readme_path}" + ("" if args.readme_only else f" and {json_path}"))
     return 0 if finite(res) else 1
 
 
