@@ -27,7 +27,7 @@ sys.path.insert(0, HERE)
 import limit  # noqa: E402
 import overhead  # noqa: E402
 import peer   # noqa: E402
-import smith  # noqa: E402
+import pile_blow  # noqa: E402
 from readme import with_other_sections  # noqa: E402
 
 TARGETS = (1e-4, 1e-6, 1e-8)
@@ -94,7 +94,7 @@ def measure(quick):
     res["overhead"] = measure_overhead(quick)
     from vstpetsc import Case, bundled
     pile = Case.from_toml(bundled.path("pile"))
-    res["pile"] = smith.compare(pile, (25, 50) if quick else (25, 50, 100),
+    res["pile"] = pile_blow.compare(pile, (25, 50) if quick else (25, 50, 100),
                                 (50, 100, 200) if quick else (50, 100, 200, 400))
     x = np.log([r["elements"] for r in res["limit"]])
     y = np.log([r["slab_min_ms"] for r in res["limit"]])
@@ -163,7 +163,7 @@ def pile_section(res):
         "The bundled `pile` blow (20 m steel pipe pile, 3 t ram at 4.43 m/s, cushion, "
         "Smith soil of 1.5 MN) with vstpetsc (the whole run, file included) and with the "
         "classical explicit lumped-mass algorithm of Smith (1960) written in numpy "
-        "(bench/smith.py, dt = dx / 2c, best of 3).",
+        "(tests/references/smith.py, dt = dx / 2c, best of 3).",
         ("method", "resolution", "steps", "set [mm]", "compression [MPa]", "tension [MPa]",
          "transferred [kJ]", "wall [s]"))
     for key, label in (("vstpetsc", "elements"), ("smith", "segments")):
