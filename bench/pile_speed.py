@@ -1,6 +1,6 @@
 """Pile driving at equal accuracy: the bundled `pile` blow with vstpetsc
-against the explicit lumped-mass Smith method (bench/smith.py), and the
-cost of a soil slab against the floor.
+against the explicit lumped-mass Smith method (tests/references/smith.py),
+and the cost of a soil slab against the floor.
 
 - The converged set: Smith's sequence converges at first order in dx
   (dt = dx / 2c: its sets at 200, 400, 800 segments differ by 6.9 and 3.3
@@ -32,11 +32,14 @@ import time
 
 import numpy as np
 
-import overhead
-import readme
-import smith
-
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.append(os.path.join(os.path.dirname(HERE), "tests"))
+
+import overhead  # noqa: E402
+import pile_blow  # noqa: E402
+import readme  # noqa: E402
+from references import smith  # noqa: E402
+
 SECTION = "## Pile driving at equal accuracy: against the explicit Smith method"
 TOL = 1e-3
 
@@ -97,11 +100,11 @@ def measure(quick):
     end = case.nslabs * case.dt
     reference, smith_sets = converged_set(case, end, 400 if quick else 800)
     vst_sizes = (8, 16, 25, 50) if quick else (8, 10, 12, 14, 16, 20, 25, 50, 100)
-    nv, vst_sets = coarsest(vst_sizes, lambda n: smith.vstpetsc_blow(case, n)["set"], reference)
+    nv, vst_sets = coarsest(vst_sizes, lambda n: pile_blow.vstpetsc_blow(case, n)["set"], reference)
     ns, peer_sets = coarsest((50, 100, 200, 400, 800), lambda n: smith_sets.get(n) or
                              smith.run(case, n, end)["set"], reference)
     reps = 3 if quick else 7
-    times = interleaved({"vstpetsc": lambda: smith.vstpetsc_blow(case, nv)["wall"],
+    times = interleaved({"vstpetsc": lambda: pile_blow.vstpetsc_blow(case, nv)["wall"],
                          "smith": lambda: smith.run(case, ns, end)["wall"]}, reps)
     text = open(bundled.path("pile")).read()
     floor = overhead.floor(text, reps=3 if quick else 5)

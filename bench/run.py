@@ -1,7 +1,11 @@
 """Benchmarks of vstpetsc: `make bench` (full, writes bench/results.json and
 bench/README.md) and `make bench-quick` (small sizes, under a minute).
 
-    python bench/run.py [--quick] [--out FOLDER]
+    python bench/run.py [--quick] [--out FOLDER] [--readme-only]
+
+README.md: the head and this script's sections, then the sections the
+benchmarks after it write (bench/readme.py), kept as they are;
+--readme-only rewrites this script's part from results.json alone.
 
 Every ratio is measured in one run on one machine; repeated timings report
 min and median.  Speed is reported, never asserted.
@@ -23,7 +27,8 @@ sys.path.insert(0, HERE)
 import limit  # noqa: E402
 import overhead  # noqa: E402
 import peer   # noqa: E402
-import smith  # noqa: E402
+import pile_blow  # noqa: E402
+from readme import with_other_sections  # noqa: E402
 
 TARGETS = (1e-4, 1e-6, 1e-8)
 
@@ -89,7 +94,7 @@ def measure(quick):
     res["overhead"] = measure_overhead(quick)
     from vstpetsc import Case, bundled
     pile = Case.from_toml(bundled.path("pile"))
-    res["pile"] = smith.compare(pile, (25, 50) if quick else (25, 50, 100),
+    res["pile"] = pile_blow.compare(pile, (25, 50) if quick else (25, 50, 100),
                                 (50, 100, 200) if quick else (50, 100, 200, 400))
     x = np.log([r["elements"] for r in res["limit"]])
     y = np.log([r["slab_min_ms"] for r in res["limit"]])
@@ -158,7 +163,7 @@ def pile_section(res):
         "The bundled `pile` blow (20 m steel pipe pile, 3 t ram at 4.43 m/s, cushion, "
         "Smith soil of 1.5 MN) with vstpetsc (the whole run, file included) and with the "
         "classical explicit lumped-mass algorithm of Smith (1960) written in numpy "
-        "(bench/smith.py, dt = dx / 2c, best of 3).",
+        "(tests/references/smith.py, dt = dx / 2c, best of 3).",
         ("method", "resolution", "steps", "set [mm]", "compression [MPa]", "tension [MPa]",
          "transferred [kJ]", "wall [s]"))
     for key, label in (("vstpetsc", "elements"), ("smith", "segments")):
@@ -372,17 +377,22 @@ def main(argv=None):
     ap.add_argument("--readme-only", action="store_true",
                     help="rewrite README.md from the existing results.json")
     args = ap.parse_args(argv)
+    json_path, readme_path = (os.path.join(args.out, name) for name in ("results.json",
+                                                                       "README.md"))
     if args.readme_only:
-        with open(os.path.join(args.out, "results.json")) as f:
+        with open(json_path) as f:
             res = json.load(f)
     else:
         res = measure(args.quick)
-    os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "results.json"), "w") as f:
-        json.dump(res, f, indent=1)
-    with open(os.path.join(args.out, "README.md"), "w") as f:
-        f.write(readme(res))
-    print(f"wrote {args.out}/results.json and README.md")
+        os.makedirs(args.out, exist_ok=True)
+        with open(json_path, "w") as f:
+            json.dump(res, f, indent=1)
+    # the other benchmarks' sections stay: `make bench` replaces them after
+    # this, --readme-only not at all
+    text = with_other_sections(readme_path, readme(res))
+    with open(readme_path, "w") as f:
+        f.write(text)
+    print(f"wrote {readme_path}" + ("" if args.readme_only else f" and {json_path}"))
     return 0 if finite(res) else 1
 
 

@@ -4,7 +4,7 @@
 shaking with one cycle of 3 sin(2 pi t) m/s^2) swept with ``vstpetsc.sweep``
 over ``contact.0.friction`` (ky = mu) for the record and the record reversed
 (``contact.0.wall_shear_velocity.scale = -1``), against Newmark's rigid block
-(bench/sliding_block.py) on the same ground motion: the case integrates the
+(tests/references/sliding_block.py) on the same ground motion: the case integrates the
 acceleration samples exactly, so the ground acceleration is the record's,
 linear between samples.
 
@@ -34,8 +34,11 @@ import numpy as np
 import vstpetsc
 from vstpetsc import bundled
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sliding_block import UNIFORM_SHEAR_COLUMN, coupled_single_mode, newmark  # noqa: E402
+sys.path.append(os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                             "tests"))
+from references.sliding_block import (UNIFORM_SHEAR_COLUMN,  # noqa: E402
+                                      coupled_single_mode, ground_acceleration, newmark,
+                                      rigid_block)
 
 G_ACC = 9.81
 FIGURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
@@ -47,28 +50,6 @@ SCALE_KEY = "contact.0.wall_shear_velocity.scale"
 H, RHO, COLUMN_ELEMENTS, COLUMN_DT, COLUMN_END = 20.0, 2000.0, 40, 1e-3, 5.0
 SPEEDS = [320.0, 160.0, 80.0, 40.0]          # 4 H / Vs = 0.25, 0.5, 1, 2 s
 COLUMN_FRICTIONS = [0.05, 0.1, 0.2]
-
-
-def ground_acceleration(case, end=None):
-    """(t, a_g) of a case's wall: an integrated record's own acceleration
-    (linear between samples), else the slope of its piecewise-linear shear
-    velocity on each sample interval (a repeated time is a jump); then at
-    rest to ``end`` (the history is held after its last sample)."""
-    wall = case.contacts[0].wall_shear_velocity
-    if wall.slopes is not None:
-        t, a = wall.t, wall.slopes
-    else:
-        acc = np.diff(wall.f) / np.diff(wall.t)
-        t, a = np.repeat(wall.t, 2)[1:-1], np.repeat(acc, 2)
-    if end is not None and end > wall.t[-1]:
-        t, a = np.append(t, [wall.t[-1], end]), np.append(a, [0.0, 0.0])
-    return t, a
-
-
-def rigid_block(case, end=None):
-    """Newmark's rigid block under the case's ground motion, a_y = mu g."""
-    yield_acceleration = case.contacts[0].friction * -case.gravity.g(0.0)
-    return newmark(*ground_acceleration(case, end), yield_acceleration)
 
 
 def run_sweep(case, settings, folder):

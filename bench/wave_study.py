@@ -1,6 +1,6 @@
 """Spatial accuracy of waves by mass matrix (issue 26 item 4;
 docs/wave-accuracy.md). The problems, closed forms and error norms are
-bench/opensees.py's:
+tests/references/waves.py's (bench/opensees.py's problems):
 
 wave  the `wave` example's standing wave (u0 exact at the nodes): tip
       displacement, relative L2 error over two periods;
@@ -16,6 +16,7 @@ semi  the site problem's semi-discrete solution (no time stepping: the
     .venv/bin/python bench/wave_study.py [wave|site|rigid|semi]
 """
 
+import io
 import math
 import os
 import sys
@@ -25,46 +26,23 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-import opensees as bench  # noqa: E402
+sys.path.append(os.path.join(os.path.dirname(HERE), "tests"))
+from opensees import vst_run  # noqa: E402
+from references import waves  # noqa: E402
 
-SITE = bench.SITE
-Z_SOIL = SITE["rho"] * SITE["c"]
-Z_ROCK = SITE["rho_rock"] * SITE["c_rock"] * bench.AREA
+SITE = waves.SITE
 ELEMENTS = {"wave": (5, 10, 20, 40), "site": (10, 20, 40, 80, 160)}
 COURANTS = {"wave": (2.0, 1.0, 0.5, 0.25, 0.125, 0.0625),
             "site": (2.0, 1.25, 1.0, 0.5, 0.25, 0.125)}
 
 
-def exact_transfer(omega):
-    """Surface velocity per unit incident velocity of the continuum at
-    angular frequency omega: 2 T e^{-ikH} / (1 - R e^{-2ikH}), the sum of
-    bench.site_surface_exact's multiple reflections."""
-    kh = omega * SITE["H"] / SITE["c"]
-    trans, refl = 2.0 * Z_ROCK / (Z_SOIL + Z_ROCK), (Z_SOIL - Z_ROCK) / (Z_SOIL + Z_ROCK)
-    return 2.0 * trans * np.exp(-1j * kh) / (1.0 - refl * np.exp(-2j * kh))
-
-
-def surface_transfer(ops, omega, scale=1.0):
-    """The same for the semi-discrete model of the operators ``ops`` (base =
-    node 0, surface = the last node): (-omega^2 M + i omega C + K) U =
-    2 Z_rock e_0; ``scale`` multiplies the base's dashpot and incident force."""
-    from vstpetsc import model as model_mod
-
-    m, c, k = model_mod.dense(ops, "mck")
-    c = c.astype(complex)
-    c[0, 0] *= scale
-    force = np.zeros(m.shape[0], dtype=complex)
-    force[0] = 2.0 * Z_ROCK * scale
-    u = np.linalg.solve(-omega ** 2 * m + 1j * omega * c + k, force)
-    return 1j * omega * u[-1]
-
-
-def site_ops(elements, mass, folder):
+def site_matrices(elements, mass, folder):
+    """Dense M, C, K of the site problem's model."""
     import vstpetsc
     from vstpetsc import model as model_mod
 
-    doc = bench.vst_case(bench.job_for("site", {"mass": mass}, elements, 1.0), folder)
-    return model_mod.build_model(vstpetsc.Case.from_dict(doc)).ops
+    doc = waves.case_doc(waves.job_for("site", {"mass": mass}, elements, 1.0), folder)
+    return model_mod.dense(model_mod.build_model(vstpetsc.Case.from_dict(doc)).ops, "mck")
 
 
 def semi_discrete_error(elements, mass, corrected, folder, span=8.0, dt=1e-4):
@@ -72,9 +50,9 @@ def semi_discrete_error(elements, mass, corrected, folder, span=8.0, dt=1e-4):
     velocity (the incident table's spectrum times the transfer function,
     frequencies below 200 Hz; ``corrected``: base impedance scaled by
     1 - (kh)^2 / 12)."""
-    ops = site_ops(elements, mass, folder)
+    m, c, k = site_matrices(elements, mass, folder)
     t = np.arange(int(span / dt)) * dt
-    v_in = bench.site_incident()[2]
+    v_in = waves.site_incident()[2]
     freq = np.fft.rfftfreq(t.size, dt)
     h = SITE["H"] / elements
     response = np.zeros(freq.size, dtype=complex)
@@ -82,29 +60,23 @@ def semi_discrete_error(elements, mass, corrected, folder, span=8.0, dt=1e-4):
         if 0.0 < f < 200.0:
             omega = 2.0 * math.pi * f
             scale = 1.0 - (omega * h / SITE["c"]) ** 2 / 12.0 if corrected else 1.0
-            response[i] = surface_transfer(ops, omega, scale)
+            response[i] = waves.semi_discrete_transfer(m, c, k, omega, scale)
     v = np.fft.irfft(np.fft.rfft(v_in(t)) * response, t.size)
     keep = t <= SITE["end"]
-    exact = bench.site_surface_exact(t[keep], v_in, SITE["H"], SITE["c"], Z_SOIL, Z_ROCK)
-    return bench.rel_l2(v[keep], exact)
+    exact = waves.site_surface_exact(t[keep], v_in, SITE["H"], SITE["c"], waves.Z_SOIL,
+                                     waves.Z_ROCK)
+    return waves.rel_l2(v[keep], exact)
 
 
 def rigid_error(elements, courant, mass, folder):
     """The site layer with the base's velocity prescribed to v_in."""
-    import io
-
     import vstpetsc
 
-    doc = bench.vst_case(bench.job_for("site", {"mass": mass}, elements, courant), folder)
-    doc["bc"] = [{"body": "bar", "end": "left", "type": "velocity",
-                  "value": doc["bc"][0]["incident"]}]
+    job = waves.job_for("site", {"mass": mass}, elements, courant)
+    doc = waves.rigid_base(waves.case_doc(job, folder))
     r = vstpetsc.run(vstpetsc.Case.from_dict(doc), os.path.join(folder, "rigid.h5"),
                      quiet=True, out=io.StringIO())
-    t = r["time"][1:]
-    # infinitely stiff rock (T = 2, R = -1) moves the base with 2 v_in
-    exact = bench.site_surface_exact(t, bench.site_incident()[2], SITE["H"], SITE["c"],
-                                     Z_SOIL, 1e300)
-    return bench.rel_l2(r["body/bar/v"][1:, -1], 0.5 * exact)
+    return waves.rel_l2(r["body/bar/v"][1:, -1], waves.rigid_surface_exact(r["time"][1:]))
 
 
 def table(name, folder):
@@ -112,7 +84,7 @@ def table(name, folder):
     print(f"{name}: c dt/h = " + ", ".join(f"{c:g}" for c in COURANTS[name]))
     for mass in ("averaged", "consistent"):
         for n in ELEMENTS[name]:
-            errors = [bench.vst_run(bench.job_for(name, {"mass": mass}, n, c), folder)[1]["error"]
+            errors = [vst_run(waves.job_for(name, {"mass": mass}, n, c), folder)[1]["error"]
                       for c in COURANTS[name]]
             print(f"| {mass} | {n} | " + " | ".join(f"{e:.2e}" for e in errors) + " |",
                   flush=True)

@@ -180,8 +180,8 @@ def _sliding_block(f, result):
     rigid block on the same (piecewise-constant) ground acceleration."""
     import matplotlib.pyplot as plt
 
-    sys.path.insert(0, os.path.join(os.path.dirname(HERE), "bench"))
-    from sliding_block import newmark
+    sys.path.append(os.path.join(os.path.dirname(HERE), "tests"))
+    from references.sliding_block import newmark
 
     case = result.case()
     pair = case.contacts[0]

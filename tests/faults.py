@@ -242,6 +242,8 @@ def simultaneous_sweeps(folder, case, delay=0.0):
                                  for f in data["file"]]
     if statuses != ["completed"] * 4:
         return False, f"statuses in summary.csv and the files: {statuses}"
+    if ".sweep.lock" in os.listdir(out):
+        return False, "the lock file stayed after both sweeps ended"
     how = "one refused (exit 2)" if refused else "the second found every run done"
     return True, f"{how}; every run completed and so labelled"
 

@@ -55,6 +55,31 @@ def test_with_value_copies_and_validates():
         assert len(err.value.problems) == 1 and path in err.value.problems[0]
 
 
+def test_with_value_builds_the_case_once(monkeypatch):
+    """One validation per with_value, for a key the case gives, one it does
+    not (body.bar.area: it used to be built once with a placeholder to
+    check the key, then again), a new table, a misspelled key and a bad
+    value; the results and messages as before."""
+    case = bar_wall()
+    read = vstpetsc.case.schema.read
+    calls = []
+    monkeypatch.setattr(vstpetsc.case.schema, "read", lambda *a: calls.append(a) or read(*a))
+    changes = [("body.bar.v0", 2.0, None), ("body.bar.area", 2.0, None),
+               ("body.bar.damping.alpha", 0.5, None),
+               ("body.bar.aera", 2.0, "body.bar.aera: unknown key (did you mean 'area'?"),
+               ("body.bar.area", -1.0, "body[0] (bar).area: must be positive")]
+    for path, value, problem in changes:
+        calls.clear()
+        if problem is None:
+            assert case.with_value(path, value).to_dict() != case.to_dict()
+        else:
+            with pytest.raises(vstpetsc.CaseError) as err:
+                case.with_value(path, value)
+            assert len(err.value.problems) == 1 and err.value.problems[0].startswith(problem)
+        assert len(calls) == 1, path
+    assert case.with_value("body.bar.area", 2.0).bodies[0].area(0.5) == 2.0
+
+
 def test_case_error_carries_the_cli_messages(tmp_path):
     doc = bar_wall().to_dict()
     doc["body"][0]["E"] = "steel"

@@ -3,6 +3,7 @@
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 
@@ -52,6 +53,27 @@ def test_bench_quick_reports_every_field(tmp_path):
         assert row["set"] > 0 and row["wall"] > 0 and row["transferred"] > 0
     text = (tmp_path / "README.md").read_text()
     assert "| elements |" in text and "| case | elements |" in text
+
+
+def test_readme_only_keeps_the_other_benchmarks_sections(tmp_path):
+    """bench/run.py --readme-only rewrites its own part of README.md from
+    results.json and keeps the sections the benchmarks after it wrote
+    (OpenSees, sweeps, pile at equal accuracy, fixed cost; it used to drop
+    them): a stale copy of the committed README comes back byte for byte,
+    and results.json, its input, is not rewritten."""
+    committed = open(os.path.join(ROOT, "bench", "README.md")).read()
+    later = ("## Against OpenSees", "## Sweeps on two ranks",
+             "## Pile driving at equal accuracy", "## Fixed cost of a run")
+    assert all(f"\n{title}" in committed for title in later)
+    shutil.copy(os.path.join(ROOT, "bench", "results.json"), tmp_path)
+    (tmp_path / "README.md").write_text(committed.replace(
+        "## Against the physical limit\n", "## Against the physical limit\n\nstale\n"))
+    before = os.stat(tmp_path / "results.json").st_mtime_ns
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "bench", "run.py"), "--readme-only",
+                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert (tmp_path / "README.md").read_text() == committed
+    assert os.stat(tmp_path / "results.json").st_mtime_ns == before
 
 
 def test_the_parallel_benchmarks_start_no_mpi_themselves():

@@ -1,6 +1,6 @@
-"""bench/coulomb_column.py, the explicit lumped-mass reference for a
+"""tests/references/coulomb_column.py, the explicit lumped-mass reference for a
 flexible shear column on a Coulomb base (issue 27), against independent
-facts: the rigid block of bench/sliding_block.py as Vs grows, the lumped
+facts: the rigid block of references/sliding_block.py as Vs grows, the lumped
 chain's exact first mode and leapfrog's exact discrete solution for it,
 the energy balance, and convergence under refinement.
 
@@ -19,17 +19,12 @@ Facts used.
 """
 
 import math
-import os
-import sys
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
-
-sys.path.insert(0, os.path.join(ROOT, "bench"))
-import coulomb_column as cc  # noqa: E402
-import sliding_block as sb  # noqa: E402
+from references import coulomb_column as cc
+from references import sliding_block as sb
 
 G_ACC = 9.81
 H, RHO, AREA, MU = 10.0, 2000.0, 1.0, 0.2

@@ -341,11 +341,10 @@ def test_info_and_plot_reject_bad_files(tmp_path):
 
 def test_pile_against_the_smith_lumped_mass_peer(results):
     """The bundled pile blow against the classical explicit Smith (1960)
-    algorithm (bench/smith.py) at 200 segments: set, largest compressive
-    stress and the energy transferred into the pile; the energy balance."""
-    import sys
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(__file__)), "bench"))
-    import smith
+    algorithm (tests/references/smith.py) at 200 segments: set, largest
+    compressive stress and the energy transferred into the pile; the
+    energy balance."""
+    from references import smith
 
     r = results["pile"]
     case = case_of(r)
@@ -367,12 +366,10 @@ def test_pile_against_the_smith_lumped_mass_peer(results):
 
 def test_sliding_block_slides_as_newmarks_rigid_block(results):
     """The stiff block's slip against the rigid-block integration of the
-    case's own record (bench/sliding_block.py): the record's ground
-    acceleration, linear between samples, which the case integrates
+    case's own record (tests/references/sliding_block.py): the record's
+    ground acceleration, linear between samples, which the case integrates
     exactly into the wall velocity."""
-    import sys
-    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "bench"))
-    from sliding_block import newmark
+    from references.sliding_block import newmark
 
     r = results["sliding-block"]
     case = case_of(r)

@@ -6,8 +6,6 @@ frictional interface; the energy balance; the third order of the shear
 field; restarts."""
 
 import io
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,11 +13,10 @@ from scipy.integrate import solve_ivp
 
 import vstpetsc
 from conftest import bar, make_case, solve
+from references.coulomb_column import column_on_coulomb_base
+from references.sliding_block import newmark
 from test_linear import modal_solution
 from vstpetsc.model import build_model, modes
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
-from sliding_block import newmark  # noqa: E402
 
 G_ACC, RHO, MU = 9.81, 2400.0, 0.2
 KY = MU * G_ACC                       # the yield acceleration mu g
@@ -72,7 +69,7 @@ def test_rectangular_pulse_tends_to_newmark_as_the_block_stiffens(tmp_path):
 def rigid_block_ivp(a_g, ky, end):
     """The relative slip u of a rigid block on ground accelerating a_g(t),
     Coulomb yield acceleration ky, two-way: solve_ivp between stick/slip
-    events (rtol 1e-11), independent of bench/sliding_block.py."""
+    events (rtol 1e-11), independent of tests/references/sliding_block.py."""
     t, u, v, stuck = 0.0, 0.0, 0.0, True
     while t < end:
         if stuck:
@@ -276,8 +273,7 @@ def column_case(Vs, elements, ground, end):
 def test_flexible_column_against_an_explicit_lumped_mass_solver(tmp_path):
     """A column whose period 4 H / Vs = 0.4 s matches the pulse (0.3 s):
     the slip history against central differences with a lumped mass
-    (bench/coulomb_column.py, same mesh), and 6 % away from the rigid block."""
-    from coulomb_column import column_on_coulomb_base
+    (tests/references/coulomb_column.py, same mesh), and 6 % away from the rigid block."""
 
     A, t1, end, n = 5.0, 0.3, 1.2, 32
     ground = (np.array([0.0, t1, end]), np.array([0.0, A * t1, A * t1]))

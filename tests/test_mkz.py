@@ -1,5 +1,5 @@
 """The MKZ shear law (issue 28) in the solver, against the independent
-reference bench/mkz_reference.py (which imports nothing of vstpetsc):
+reference tests/references/mkz.py (which imports nothing of vstpetsc):
 
 1. two elements driven quasi-statically through growing cycles and an
    unload-reload inside a loop: the stress is masing_stress of the
@@ -24,12 +24,10 @@ import vstpetsc
 from vstpetsc import petsc, toml_text
 from conftest import ROOT, cli, solve, write_case
 from faults import one_clean_line
+from references import mkz as ref
 from test_energy_restart import assert_same_files
 from agreement import assert_runs_agree, datasets
 from test_parallel import mpirun
-
-sys.path.insert(0, os.path.join(ROOT, "bench"))
-import mkz_reference as ref  # noqa: E402
 
 MKZ = {"model": "mkz", "gamma_ref": 5.0e-4, "beta": 1.0, "s": 0.919}
 

@@ -1,4 +1,4 @@
-"""bench/mkz_reference.py, the independent reference for issue 28 (MKZ
+"""tests/references/mkz.py, the independent reference for issue 28 (MKZ
 backbone, extended Masing rules, an explicit shear column), against facts
 derived here, not against vstpetsc.
 
@@ -22,17 +22,12 @@ Facts used.
 """
 
 import math
-import os
-import sys
 
 import numpy as np
 import pytest
 
 from agreement import TRANSCENDENTAL_RTOL
-from conftest import ROOT
-
-sys.path.insert(0, os.path.join(ROOT, "bench"))
-import mkz_reference as mr  # noqa: E402
+from references import mkz as mr
 
 LAW = mr.Mkz(G=8.0e7, gamma_ref=5.0e-4, beta=1.0, s=0.919)
 AMPLITUDES = (1.0e-4, 1.0e-3, 1.0e-2)          # 0.2, 2 and 20 gamma_ref

@@ -1,4 +1,4 @@
-"""bench/sliding_block.py, the rigid-block (Newmark 1965) reference for the
+"""tests/references/sliding_block.py, the rigid-block (Newmark 1965) reference for the
 friction of issue 27, against closed forms derived from the physics here.
 
 Notation: a_g the plane's acceleration, a_y = mu g the yield acceleration,
@@ -44,16 +44,11 @@ sliding dv/dt = -a_g - s a_y with s = sign(v) (friction opposes v).
 """
 
 import math
-import os
-import sys
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
-
-sys.path.insert(0, os.path.join(ROOT, "bench"))
-import sliding_block as sb  # noqa: E402
+from references import sliding_block as sb
 
 
 def pulse(A, t1, t_end):

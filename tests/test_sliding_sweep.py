@@ -2,22 +2,18 @@
 a sweep over the yield coefficient gives D(ky) in summary.csv, the
 reversed record mirrors it, and `vstpetsc plot` draws it."""
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import vstpetsc
 from conftest import cli
+from references.sliding_block import rigid_block
 from vstpetsc import bundled
 from vstpetsc.sweep import read_summary
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
-from sliding_study import SCALE_KEY, rigid_block  # noqa: E402
-
 FRICTIONS = [0.1, 0.15, 0.2]
 FRICTION_KEY = "contact.0.friction"
+SCALE_KEY = "contact.0.wall_shear_velocity.scale"      # -1: the record reversed
 
 
 @pytest.fixture(scope="module")

@@ -1,6 +1,7 @@
 """Sweep faults (issue 25): a history file edited between two sweeps, a
 misspelled --set key, a folder that cannot be one, two sweeps into one
-folder, an error on one rank of an mpirun sweep, empty summaries to plot."""
+folder (and the lock file gone when a sweep ends), an error on one rank of
+an mpirun sweep, empty summaries to plot."""
 
 import fcntl
 import os
@@ -14,7 +15,10 @@ import vstpetsc
 from conftest import bar, cli, make_case, write_case
 from test_parallel import mpirun as parallel_mpirun
 from test_sweep import wall_case
-from vstpetsc.sweep import LOCK, quantities, read_summary
+from vstpetsc import sweep_folder
+from vstpetsc.errors import InputError
+from vstpetsc.sweep import quantities, read_summary
+from vstpetsc.sweep_folder import LOCK
 
 needs_mpirun = pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
 
@@ -111,6 +115,55 @@ def test_summary_that_cannot_be_written_fails_with_one_line(tmp_path):
     assert one_line(p, 3, "summary.csv (Is a directory); the runs' files are kept"), p.stderr
     assert [vstpetsc.Result(tmp_path / "s" / f"run-{i}.h5").status for i in (0, 1)] == \
         ["completed"] * 2
+    assert LOCK not in os.listdir(tmp_path / "s")
+
+
+def test_the_lock_file_goes_when_a_sweep_ends(tmp_path, monkeypatch):
+    """Completed, or stopped by an error in a run: no .sweep.lock left."""
+    out = tmp_path / "s"
+    rows = vstpetsc.sweep(wall_case(), {"body.bar.v0": [1.0, 2.0]}, str(out))
+    assert [r["status"] for r in rows] == ["completed"] * 2
+    assert sorted(os.listdir(out)) == ["run-0.h5", "run-1.h5", "summary.csv"]
+
+    def broken(*args):
+        raise RuntimeError("disk gone")
+    monkeypatch.setattr(sys.modules["vstpetsc.sweep"], "run_one", broken)
+    with pytest.raises(RuntimeError, match="disk gone"):
+        vstpetsc.sweep(wall_case(), {"body.bar.v0": [4.0]}, str(tmp_path / "t"))
+    assert os.listdir(tmp_path / "t") == []
+
+
+def test_a_sweep_that_opened_a_removed_lock_file_takes_the_new_one(tmp_path, monkeypatch):
+    """Sweep B opens the lock file, sweep A ends (removes it, drops its
+    lock), sweep C makes a new one and holds it: B's lock on the removed
+    file would let B and C write into the folder together, so B checks
+    the file it locked is the folder's, opens the new one and is refused;
+    once C has ended too, B takes the folder with the file it holds."""
+    folder = str(tmp_path / "s")
+    path = os.path.join(folder, LOCK)
+    first = sweep_folder.take(folder)
+    opened = os.open(path, os.O_RDWR)                  # B, before A ends
+    sweep_folder.release(folder, first)
+    assert not os.path.exists(path)
+    third = sweep_folder.take(folder)
+    real_open = sweep_folder._open
+    given = []
+
+    def open_once_stale(folder_, path_):
+        fd = os.dup(opened) if not given else real_open(folder_, path_)
+        given.append(fd)
+        return fd
+    monkeypatch.setattr(sweep_folder, "_open", open_once_stale)
+    with pytest.raises(InputError, match="being used by another sweep"):
+        sweep_folder.take(folder)
+    assert len(given) == 2                              # the removed file, then the new one
+    sweep_folder.release(folder, third)
+    given.clear()
+    fd = sweep_folder.take(folder)
+    assert len(given) == 2 and os.fstat(fd).st_ino == os.stat(path).st_ino
+    sweep_folder.release(folder, fd)
+    os.close(opened)
+    assert os.listdir(folder) == []
 
 
 def test_two_sweeps_into_one_folder(tmp_path):

@@ -1,26 +1,41 @@
 """Spatial accuracy of waves by mass matrix (issue 26 item 4,
 docs/wave-accuracy.md): the standing wave of the `wave` example and the
 site response of a soil layer on elastic rock, both against their closed
-forms (bench/opensees.py's problems, exact solutions and error norms, and
-bench/wave_study.py's semi-discrete transfer functions, imported)."""
+forms (tests/references/waves.py: the problems of bench/opensees.py and
+bench/wave_study.py, their exact solutions and error norms, and the
+semi-discrete transfer function)."""
 
+import io
 import math
 import os
-import sys
 
-from conftest import ROOT
+import vstpetsc
+from references import waves
+from vstpetsc import model as model_mod
 
-sys.path.insert(0, os.path.join(ROOT, "bench"))
-import opensees as bench  # noqa: E402
-import wave_study as study  # noqa: E402
+
+def run(tmp_path, doc):
+    """vstpetsc.run of the case ``doc``, quietly, into tmp_path/run.h5."""
+    path = tmp_path / "run.h5"
+    if path.exists():
+        os.remove(path)
+    return vstpetsc.run(vstpetsc.Case.from_dict(doc), str(path), quiet=True, out=io.StringIO())
 
 
 def error(tmp_path, problem, elements, courant, mass):
     """The benchmark's error of one run: the standing wave's tip L2 error
     over two periods (u0 exact at the nodes), or the site's surface
     velocity L2 error over 1.2 s; c dt/h = ``courant``."""
-    job = bench.job_for(problem, {"mass": mass}, elements, courant)
-    return bench.vst_run(job, str(tmp_path))[1]["error"]
+    job = waves.job_for(problem, {"mass": mass}, elements, courant)
+    return waves.metrics(job, run(tmp_path, waves.case_doc(job, str(tmp_path))))["error"]
+
+
+def rigid_error(tmp_path, elements, courant):
+    """The site layer's error with the base's velocity prescribed to the
+    incident v_in (averaged mass)."""
+    job = waves.job_for("site", {"mass": "averaged"}, elements, courant)
+    r = run(tmp_path, waves.rigid_base(waves.case_doc(job, str(tmp_path))))
+    return waves.rel_l2(r["body/bar/v"][1:, -1], waves.rigid_surface_exact(r["time"][1:]))
 
 
 def wave_error(tmp_path, elements, courant, mass):
@@ -76,7 +91,7 @@ def test_site_error_is_second_order_in_space_with_the_absorbing_base(tmp_path):
     form with R = -1; the same mesh and pulse)."""
     absorbing = [site_error(tmp_path, n, 0.125, "averaged") for n in (40, 80)]
     assert abs(order(*absorbing) - 2.0) <= 0.1
-    rigid = [study.rigid_error(n, 0.0625, "averaged", str(tmp_path)) for n in (20, 40)]
+    rigid = [rigid_error(tmp_path, n, 0.0625) for n in (20, 40)]
     assert abs(order(*rigid) - 4.0) <= 0.15
 
 
@@ -87,10 +102,11 @@ def transfer_orders(tmp_path, hz, scaled):
     omega = 2.0 * math.pi * hz
     errors = []
     for n in (20, 40):
-        kh = omega * study.SITE["H"] / n / study.SITE["c"]
-        got = study.surface_transfer(study.site_ops(n, "averaged", str(tmp_path)), omega,
-                                     1.0 - kh ** 2 / 12.0 if scaled else 1.0)
-        errors.append(abs(got / study.exact_transfer(omega) - 1.0))
+        kh = omega * waves.SITE["H"] / n / waves.SITE["c"]
+        doc = waves.case_doc(waves.job_for("site", {"mass": "averaged"}, n, 1.0), str(tmp_path))
+        m, c, k = model_mod.dense(model_mod.build_model(vstpetsc.Case.from_dict(doc)).ops, "mck")
+        got = waves.semi_discrete_transfer(m, c, k, omega, 1.0 - kh ** 2 / 12.0 if scaled else 1.0)
+        errors.append(abs(got / waves.exact_transfer(omega) - 1.0))
     return order(*errors)
 
 

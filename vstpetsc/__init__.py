@@ -13,16 +13,14 @@ The Python API (the command line is a thin shell over it)::
 ``import vstpetsc`` does not start PETSc; :func:`run` does.
 """
 
-__version__ = "0.2.0"
+import importlib
+import importlib.util
 
-import importlib  # noqa: E402
-import importlib.util  # noqa: E402
-
-from vstpetsc.errors import (CaseError, InputError, Interrupted,  # noqa: E402
-                             SolveFailed)
+from vstpetsc.errors import CaseError, InputError, Interrupted, SolveFailed
 # here, not on demand: the module vstpetsc.sweep has the function's name,
 # and importing the module later would make vstpetsc.sweep the module
-from vstpetsc.sweep import sweep                                 # noqa: E402
+from vstpetsc.sweep import sweep
+from vstpetsc.version import __version__
 
 # The other public names and their modules, imported when first asked for
 # (PEP 562): `import vstpetsc` loads numpy and no more (issue 29: it loaded

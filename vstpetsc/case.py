@@ -115,11 +115,17 @@ class Case:
         ``contact.<k>.<key>``, ``bc.<k>.<key>``, ``soil.<k>.<key>`` (k counts
         from 0 in case order); deeper keys (``body.bar.damping.alpha``) too.
         """
-        self.check_path(path)
-        doc = self.to_dict()
-        table, key = _locate(doc, path)
+        doc, created = self.to_dict(), []
+        table, key = _locate(doc, path, created)
+        # what the path adds to the case: if the one build below finds one of
+        # them unknown, the error names the path (as check_path does)
+        added = [] if key in table and not created else created + [key]
         table[key] = value
-        return Case(doc, source=self.source, folder=self.folder)
+        try:
+            return Case(doc, source=self.source, folder=self.folder)
+        except CaseError as exc:
+            _raise_unknown(path, exc.problems, added, key)
+            raise
 
     def check_path(self, path):
         """CaseError unless ``path`` can name a value (see :meth:`with_value`):
@@ -133,11 +139,7 @@ class Case:
         try:
             Case(doc, source=self.source, folder=self.folder)
         except CaseError as exc:
-            for new in created + [key]:
-                unknown = _unknown_key(exc.problems, new)
-                if unknown is not None:
-                    what = "unknown key" if new == key else f"unknown key {new!r}"
-                    raise CaseError([f"{path}: {what}{unknown}"]) from None
+            _raise_unknown(path, exc.problems, created + [key], key)
 
     @property
     def output_file(self):
@@ -190,6 +192,17 @@ def _digests(paths, folder):
             digest = ""
         out[os.path.relpath(path, folder)] = digest
     return out
+
+
+def _raise_unknown(path, problems, added, key):
+    """CaseError naming ``path`` alone if ``problems`` (of the case with a
+    value at ``path``) say that one of ``added``, the tables and the key
+    that ``path`` adds to the case, is unknown; ``key``: the last."""
+    for new in added:
+        unknown = _unknown_key(problems, new)
+        if unknown is not None:
+            what = "unknown key" if new == key else f"unknown key {new!r}"
+            raise CaseError([f"{path}: {what}{unknown}"]) from None
 
 
 def _unknown_key(problems, key):

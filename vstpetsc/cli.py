@@ -110,7 +110,7 @@ def main(argv=None):
         print(USAGE)
         return 0 if argv else EXIT_BAD_INPUT
     if argv[0] == "--version":
-        from vstpetsc import __version__
+        from vstpetsc.version import __version__
         print(f"vstpetsc {__version__}")
         return 0
     command, rest = argv[0], argv[1:]

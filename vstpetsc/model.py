@@ -80,6 +80,26 @@ class Mesh:
         el = self.elements(body)
         return el.start if end == "left" else el.stop - 1
 
+    def element_stiffness(self):
+        """E A / h of every element, rounded, each to a multiple of the
+        unit in the last place of twice the node sums ke_{e-1} + ke_e it
+        enters (a change of at most about 2e-16 of that sum), so that every
+        such sum is exact and K's rows sum to zero exactly, as the bars' own
+        stiffness does: with the plain sums a body moving as a whole felt
+        springs to the ground of that rounding (k_ii + k_ij != 0), whose
+        energy no term of the balance holds (docs/loads.md section 4).  An
+        element never rounds to zero stiffness (at least one unit).  The
+        slab matrix and the hysteretic soil's linear part both take it."""
+        ke = self.E * self.A / self.h
+        shared = self.elem_body[1:] == self.elem_body[:-1]       # elements e, e+1 share a node
+        unit = np.where(shared, np.spacing(2.0 * (ke[:-1] + ke[1:])), 0.0)
+        q = np.zeros_like(ke)                 # the coarser grid of the two sums of each element
+        q[:-1] = unit
+        q[1:] = np.maximum(q[1:], unit)
+        # q is a power of 2: ke / q and the product below are exact
+        rounded = np.maximum(np.round(ke / np.where(q > 0, q, 1.0)), 1.0) * q
+        return np.where(q > 0, rounded, ke)
+
     def body_stiffness(self, body):
         """The largest E A / h of the body's elements."""
         el = self.elements(body)
@@ -183,32 +203,13 @@ def element_operators(mesh):
     springs S_e = k_f h / 6 [[2, 1], [1, 2]], assembled."""
     twelfth = mesh.rho * mesh.A * mesh.h / 12.0
     md, mo = twelfth * (6.0 - mesh.mass_off), twelfth * mesh.mass_off
-    ke = exact_row_sums(mesh, mesh.E * mesh.A / mesh.h)
+    ke = mesh.element_stiffness()
     ce = mesh.cf * mesh.h / 6.0
     se = mesh.kf * mesh.h / 6.0
     return Operators(*assemble(mesh, md, mo),
                      *assemble(mesh, mesh.alpha * md + mesh.beta * ke + 2 * ce,
                                mesh.alpha * mo - mesh.beta * ke + ce),
                      *assemble(mesh, ke, -ke), *assemble(mesh, 2 * se, se))
-
-
-def exact_row_sums(mesh, ke):
-    """The element stiffnesses E A / h rounded, each to a multiple of the
-    unit in the last place of twice the node sums ke_{e-1} + ke_e it
-    enters (a change of at most about 2e-16 of that sum), so that every
-    such sum is exact and K's rows sum to zero exactly, as the bars' own
-    stiffness does: with the plain sums a body moving as a whole felt
-    springs to the ground of that rounding (k_ii + k_ij != 0), whose
-    energy no term of the balance holds (docs/loads.md section 4).  An
-    element never rounds to zero stiffness (at least one unit)."""
-    shared = mesh.elem_body[1:] == mesh.elem_body[:-1]       # elements e, e+1 share a node
-    unit = np.where(shared, np.spacing(2.0 * (ke[:-1] + ke[1:])), 0.0)
-    q = np.zeros_like(ke)                 # the coarser grid of the two sums of each element
-    q[:-1] = unit
-    q[1:] = np.maximum(q[1:], unit)
-    # q is a power of 2: ke / q and the product below are exact
-    rounded = np.maximum(np.round(ke / np.where(q > 0, q, 1.0)), 1.0) * q
-    return np.where(q > 0, rounded, ke)
 
 
 def assemble(mesh, diag_e, off_e):

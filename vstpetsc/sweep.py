@@ -8,13 +8,13 @@ Each run writes ``out/run-<i>.h5``; rank 0 writes ``out/summary.csv``.  A
 run whose file is complete and holds the same case (its text, and the
 contents of the history files it reads) is not run again, so a killed
 sweep continues where it stopped.  One sweep at a time writes into a
-folder (``out/.sweep.lock``).  A run that fails (bad value,
+folder (:mod:`vstpetsc.sweep_folder`).  A run that fails (bad value,
 failed solve) is a row with status "failed" and its message; the others
 go on.
 """
 
+import contextlib
 import csv
-import fcntl
 import io
 import itertools
 import json
@@ -24,11 +24,11 @@ import time
 
 import numpy as np
 
+from vstpetsc import sweep_folder
 from vstpetsc.dealing import RunQueue, wait_for_all
 from vstpetsc.errors import CaseError, InputError, SolveFailed
 
 FIXED = ("file", "status", "wall_time")
-LOCK = ".sweep.lock"     # held by the sweep writing into a folder
 
 
 def parse_setting(text):
@@ -157,31 +157,59 @@ def sweep(case, settings, folder, options=(), comm=None, ranks_per_run=1):
         ``summary.csv`` cannot be written, or a rank's runs raised (on
         every rank; that rank raises its own error).
     """
-    from vstpetsc import petsc
+    combos = _checked(case, settings, folder)
+    comm = _communicator(comm)
+    group = _group(comm, ranks_per_run)
+    try:
+        with _held(comm, folder):
+            rows = _run_all(case, combos, folder, options, comm, group)
+            _on_root(comm, lambda: _write_summary_or_fail(folder, rows, list(settings)))
+    finally:
+        group.Free()
+    return rows
 
+
+def _checked(case, settings, folder):
+    """The combinations of ``settings``, once its keys and ``folder`` are
+    found fit (on every rank alike, before anything runs)."""
     combos = combinations(settings)
     for key in settings:
         case.check_path(key)
-    _check_folder(folder)
+    sweep_folder.check(folder)
+    return combos
+
+
+def _communicator(comm):
+    """The mpi4py communicator of ``comm`` (default every rank), PETSc
+    started."""
+    from vstpetsc import petsc
+
     petsc.initialize([])
-    comm = petsc.communicator(comm).tompi4py()
-    group = _group(comm, ranks_per_run)
-    lock = None
+    return petsc.communicator(comm).tompi4py()
+
+
+@contextlib.contextmanager
+def _held(comm, folder):
+    """``folder`` made and held by this sweep (rank 0 holds it) for the
+    with block; given up, its lock file removed, however the block ends."""
+    lock = _on_root(comm, lambda: sweep_folder.take(folder))
     try:
-        lock = _on_root(comm, lambda: _take_folder(folder))
-        queue = RunQueue(comm, group, len(combos))
-        try:
-            mine = _share(comm, lambda: _my_runs(case, combos, folder, options, group, queue))
-        finally:
-            queue.free()
-        parts = comm.allgather(mine)
-        rows = [next(p[i] for p in parts if i in p) for i in range(len(combos))]
-        _on_root(comm, lambda: _write_summary_or_fail(folder, rows, list(settings)))
+        yield
     finally:
         if lock is not None:
-            os.close(lock)
-        group.Free()
-    return rows
+            sweep_folder.release(folder, lock)
+
+
+def _run_all(case, combos, folder, options, comm, group):
+    """Every run's row, in order, on every rank: the groups take runs as
+    they ask for them (RunQueue), then share their rows."""
+    queue = RunQueue(comm, group, len(combos))
+    try:
+        mine = _share(comm, lambda: _my_runs(case, combos, folder, options, group, queue))
+    finally:
+        queue.free()
+    parts = comm.allgather(mine)
+    return [next(p[i] for p in parts if i in p) for i in range(len(combos))]
 
 
 def _my_runs(case, combos, folder, options, group, indices):
@@ -195,34 +223,6 @@ def _my_runs(case, combos, folder, options, group, indices):
         if group.Get_rank() == 0:
             mine[i] = row
     return mine
-
-
-def _check_folder(folder):
-    """InputError if ``folder`` cannot be a sweep's folder, decided on every
-    rank alike before anything is made."""
-    if any(not c.isprintable() for c in str(folder)):
-        raise InputError("-o: the path contains a control character")
-    if os.path.exists(folder) and not os.path.isdir(folder):
-        raise InputError(f"-o {folder}: exists and is not a folder")
-
-
-def _take_folder(folder):
-    """Make ``folder`` and lock it for this sweep (a descriptor holding an
-    flock on ``folder/.sweep.lock``, which dies with the process): a second
-    sweep into the same folder would take the runs' files from under this
-    one and call its completed runs failed."""
-    try:
-        os.makedirs(folder, exist_ok=True)
-        fd = os.open(os.path.join(folder, LOCK), os.O_RDWR | os.O_CREAT, 0o644)
-    except OSError as exc:
-        raise InputError(f"-o {folder}: cannot write there ({exc.strerror})") from None
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        os.close(fd)
-        raise InputError(f"-o {folder}: the folder is being used by another sweep; "
-                         "nothing was changed") from None
-    return fd
 
 
 def _write_summary_or_fail(folder, rows, keys):

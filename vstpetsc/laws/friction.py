@@ -35,7 +35,7 @@ SERIES = ("shear_force", "slip", "shear_stretch")
 # force is capped at mu N, so a stiff stick spring cannot overshoot as an
 # impact does, and its compliance mu N / k_t is elastic slip that delays
 # every stop.  A flexible column on a Coulomb base, 16 / 32 / 64 elements,
-# final slip against bench/coulomb_column.py on the same mesh: 3.6 / 2.0 /
+# final slip against tests/references/coulomb_column.py on the same mesh: 3.6 / 2.0 /
 # 1.0 % off at 0.5, 0.20 / 0.065 / 0.013 % at 32; 256 gains little more
 # and costs twice the time (docs/shear.md)
 BETA = 32.0

@@ -15,6 +15,7 @@ Only the registry here knows the models by name; nothing imports PETSc.
 
 from vstpetsc.checker import show
 from vstpetsc.materials import mkz
+from vstpetsc.materials.soil import HystereticSoil
 
 MODELS = {mkz.NAME: mkz}
 BODY_KEYS = ("shear_law",)
@@ -80,8 +81,6 @@ def check_alone(chk, bodies, contacts, soils):
 def build(model_bodies, mesh):
     """The shear field's material law of the mesh (None when no body has
     one)."""
-    from vstpetsc.materials.soil import HystereticSoil
-
     parts = {}
     for axial, twin in mesh.twins.items():
         law = getattr(model_bodies[axial], "shear_law", None)

@@ -34,8 +34,6 @@ class HystereticSoil:
     @classmethod
     def of(cls, parts, mesh):
         """From {twin body: parts}."""
-        from vstpetsc.model import exact_row_sums
-
         mid = 0.5 * (mesh.x[mesh.elem_node] + mesh.x[mesh.elem_node + 1])
         chosen = np.zeros(mid.size, dtype=bool)
         params = [np.ones(mid.size) for _ in mkz.PARAMETERS]
@@ -46,7 +44,7 @@ class HystereticSoil:
             for arr, val in zip(params, values):
                 arr[el] = val
         elements = np.flatnonzero(chosen)
-        ke = exact_row_sums(mesh, mesh.E * mesh.A / mesh.h)
+        ke = mesh.element_stiffness()
         return cls(mesh, elements, *(p[elements] for p in params), ke)
 
     @property

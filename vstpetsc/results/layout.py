@@ -47,6 +47,11 @@ COMPLETE_ROWS = "complete_rows"
 COMPLETE_GAUGE_ROWS = "complete_gauge_rows"
 
 
+def text(value):
+    """An attribute of the file as a str (h5py may hand back bytes)."""
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
 def body_path(name, key=None):
     return f"{BODY}/{name}" if key is None else f"{BODY}/{name}/{key}"
 

@@ -7,7 +7,8 @@ spectrum`, `transfer`).  The only module that imports matplotlib."""
 import numpy as np
 
 from vstpetsc.results import layout
-from vstpetsc.results.reader import Result, text
+from vstpetsc.results.layout import text
+from vstpetsc.results.reader import Result
 
 
 def units(attrs):

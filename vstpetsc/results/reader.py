@@ -24,17 +24,14 @@ import numpy as np
 from vstpetsc.errors import InputError
 from vstpetsc.results import layout
 from vstpetsc.results.files import held
+from vstpetsc.results.layout import text
+from vstpetsc.results.summary import summarize
 
 RETRY_SECONDS = 5.0      # how long reads of a file being written are retried
 STEADY_READS = 20        # most outline reads of a file being written
 # what h5py raises for metadata read half written (retried while a run
 # holds the file); a damaged file raises these too, after no retry
 HDF5_ERRORS = (OSError, RuntimeError, KeyError)
-
-
-def text(value):
-    """An HDF5 attribute as a str (h5py may hand back bytes)."""
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 class FileReads:
@@ -277,7 +274,6 @@ class Result(FileReads):
 
     def summary(self):
         """The dict that `vstpetsc info` prints."""
-        from vstpetsc.results.summary import summarize
         with self.session():
             return summarize(self)
 

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from vstpetsc.results.reader import text
+from vstpetsc.results.layout import text
 
 NO_REFERENCE = 1e-12    # e0 below this fraction of the largest total energy is no reference
 LISTED_CONTACTS = 3     # contacts `info` lists one by one (then the total)

@@ -24,7 +24,7 @@ import time
 import h5py
 import numpy as np
 
-from vstpetsc import __version__
+from vstpetsc.version import __version__
 from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.results import layout
 from vstpetsc.results.blocks import BlockThread

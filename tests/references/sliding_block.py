@@ -33,10 +33,14 @@ rounding. The friction energy is Y(s) m |u(tau_1) - u(tau_0)| summed over
 the sub-intervals of one sign of v (the path length times mu m g).
 
 Also here: ``coupled_single_mode``, the single-mode coupled model of
-Rathje & Bray (2000), by RK4 with located events (not exact; see there).
+Rathje & Bray (2000), by RK4 with located events (not exact; see there);
+and ``rigid_block``, the block under the ground motion of a vstpetsc
+case's moving wall (read from the Case, nothing of vstpetsc imported).
 
-Used by tests/test_sliding_block_reference.py (the closed forms it is
-checked against are derived there).
+Checked in tests/test_sliding_block_reference.py (the closed forms it is
+checked against are derived there); used by tests/test_friction.py,
+tests/test_examples.py, tests/test_sliding_sweep.py and
+bench/sliding_study.py.
 """
 
 import math
@@ -334,3 +338,27 @@ def coupled_single_mode(t, a_g, a_y, omega, xi=0.0, a_y_neg=None,
             rows.append((now, y[2], y[3], y[0]))
     rows = np.array([(t[0], 0.0, 0.0, 0.0)] + rows)
     return rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3], events
+
+
+# ---------------------------------------------------------------- a case's record
+
+def ground_acceleration(case, end=None):
+    """(t, a_g) of a case's wall: an integrated record's own acceleration
+    (linear between samples), else the slope of its piecewise-linear shear
+    velocity on each sample interval (a repeated time is a jump); then at
+    rest to ``end`` (the history is held after its last sample)."""
+    wall = case.contacts[0].wall_shear_velocity
+    if wall.slopes is not None:
+        t, a = wall.t, wall.slopes
+    else:
+        acc = np.diff(wall.f) / np.diff(wall.t)
+        t, a = np.repeat(wall.t, 2)[1:-1], np.repeat(acc, 2)
+    if end is not None and end > wall.t[-1]:
+        t, a = np.append(t, [wall.t[-1], end]), np.append(a, [0.0, 0.0])
+    return t, a
+
+
+def rigid_block(case, end=None):
+    """Newmark's rigid block under the case's ground motion, a_y = mu g."""
+    yield_acceleration = case.contacts[0].friction * -case.gravity.g(0.0)
+    return newmark(*ground_acceleration(case, end), yield_acceleration)

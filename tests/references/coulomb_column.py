@@ -54,7 +54,7 @@ converges in dt at order about 2 (each stop inside a step errs by O(dt^2)
 in slip); in elements (with dt = 0.2 h / Vs) the final slip's successive
 differences shrink by 2.8 to 6.4 per halving (8 to 128 elements), irregularly (events meet the
 elastic ringing); as Vs grows the slip tends to the rigid block's
-(bench/sliding_block.py, a_y = mu N / (rho A H)), for a rectangular pulse
+(sliding_block.py here, a_y = mu N / (rho A H)), for a rectangular pulse
 with an error proportional to 4H/Vs over the pulse length.
 """
 

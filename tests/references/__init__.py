@@ -1,0 +1,15 @@
+"""Independent references the tests check vstpetsc against, written from
+the physics or the literature; none imports vstpetsc (a few read the
+typed view of a vstpetsc Case they are given).  The benchmarks in bench/
+import them from here.
+
+- mkz.py: the MKZ backbone with the extended Masing rules, one point and
+  an explicit shear column (issue 28);
+- sliding_block.py: Newmark's rigid sliding block, exact for a piecewise
+  linear record, and the single-mode coupled column (issue 27);
+- coulomb_column.py: an explicit lumped-mass shear column on a Coulomb
+  base (issue 27);
+- smith.py: Smith's (1960) explicit lumped-mass pile-driving algorithm;
+- waves.py: the standing wave, the bar's impact on a wall and a soil
+  layer's site response, with their exact solutions (issue 26).
+"""
