@@ -314,27 +314,3 @@ def test_sweep_on_two_ranks_records_failures_and_skips_completed_runs(tmp_path):
     p = mpirun("sweep", case, *sets, "-o", out, "--quiet")
     assert p.returncode == 3
     assert done == {f: os.stat(out / f).st_mtime_ns for f in done}
-
-
-def test_compiled_slab_end_on_each_rank_equals_numpy(tmp_path):
-    """Two ranks: the compiled end of a slab on each rank (its owned nodes,
-    the neighbours' end nodes gathered) gives the numpy path's state,
-    stresses and envelopes bit for bit (the same operations in the same
-    order), and so the one-rank run's with the redundant LU."""
-    case = write_case(tmp_path, make_case(1e-5, 2e-3, [bar("a", [0.0, 1.0], 101, v0=1.0)],
-                                          bcs=[{"body": "a", "end": "right",
-                                                "type": "fixed"}]), "bar")
-    runs = {}
-    for name, options in (("compiled", []), ("numpy", ["-vst_native", "0"])):
-        p = mpirun("run", case, "-o", tmp_path / f"{name}.h5", "--quiet", "-pc_type",
-                   "redundant", *options)
-        assert p.returncode == 0, p.stderr
-        runs[name] = datasets(tmp_path / f"{name}.h5")
-    p = cli("run", case, "-o", tmp_path / "one.h5", "--quiet")
-    assert p.returncode == 0, p.stderr
-    runs["one rank"] = datasets(tmp_path / "one.h5")
-    keys = [k for k in runs["compiled"] if k.startswith("body/")]
-    assert {"body/a/u", "body/a/v", "body/a/stress", "body/a/stress_min"} <= set(keys)
-    for other in ("numpy", "one rank"):
-        for key in keys:
-            assert np.array_equal(runs["compiled"][key], runs[other][key]), (other, key)

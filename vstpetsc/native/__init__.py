@@ -65,7 +65,6 @@ def library():
             lib.vst_penalty_advance.argtypes = [_P, _P, ctypes.c_int]
             lib.vst_penalty_advance.restype = None
             for name, args in (("vst_close", [_P]),
-                               ("vst_close_ghosted", [_P, _P, ctypes.c_int, ctypes.c_int]),
                                ("vst_rows_copy", [_P, ctypes.c_int, ctypes.c_long])):
                 getattr(lib, name).argtypes = args
                 getattr(lib, name).restype = None

@@ -36,17 +36,15 @@ class SlabClose:
     bounds, b)."""
 
     def __init__(self, lib, solver, ops):
-        n0, n1 = solver.space.nodes
-        band = slab.increment_bands(ops, solver.dt, n0, n1)       # (owned nodes, 2, 3)
+        band = slab.increment_bands(ops, solver.dt, 0, ops.m_diag.size)   # (n, 2, 3)
         rows = [_doubles(band[:, :, j]).ravel() for j in range(3)]    # per dof row
-        # strain 1/2 sum (-k_off) d^2 of the owned pairs
-        energy = [_doubles(a) for a in (ops.m_diag[n0:n1], ops.m_off[n0:n1 - 1],
-                                        -ops.k_off[n0:n1 - 1])]
+        # strain 1/2 sum (-k_off) d^2
+        energy = [_doubles(a) for a in (ops.m_diag, ops.m_off, -ops.k_off)]
         env = solver.envelope
         self._keep = (solver.x, solver.br, *rows, solver.u, solver.v, env.buf, env.lo,
                       env.hi, *energy)
         p = [a.ctypes.data for a in self._keep]
-        self.ctx = _Close(n1 - n0, *p[:5], *solver.V[1], *p[5:], 0.0, 0.0)
+        self.ctx = _Close(ops.m_diag.size, *p[:5], *solver.V[1], *p[5:], 0.0, 0.0)
         # the arrays the struct points into live as long as it does (_keep)
         self.lib, self.ref = lib, ctypes.addressof(self.ctx)
 
@@ -68,53 +66,3 @@ class SlabClose:
     def energies(self):
         """(kinetic, strain) energy at the end of the last closed slab."""
         return self.ctx.kinetic, self.ctx.strain
-
-
-class GhostedClose(SlabClose):
-    """The compiled end of a slab on one of several ranks, over its owned
-    nodes (slab_close.c's vst_close_ghosted): the neighbouring ranks' end
-    nodes come by ``gather`` (a DofGather of their four dofs, collective),
-    the pair that ends on the next rank's node takes its displacement
-    (the solver's ``u_ghost``).  The same bits as the numpy path
-    (:class:`vstpetsc.petsc.slab_end.SlabEnd`) on any number of ranks; the
-    energies are the EnergyBook's."""
-
-    def __init__(self, lib, solver, ops, gather):
-        super().__init__(lib, solver, ops)
-        n0, n1 = solver.space.nodes
-        self.has_left, self.has_right = int(n0 > 0), int(n1 < ops.m_diag.size)
-        self.solver, self.gather = solver, gather
-        self.ghost = np.zeros(5)          # z before, z after, u after
-        self.ghost_ref = self.ghost.ctypes.data
-
-    @classmethod
-    def of(cls, solver, ops, use, gather):
-        """The compiled close of ``solver`` on one of several ranks when
-        ``use`` and the library is built (None otherwise); ``gather()``
-        makes the DofGather of :meth:`ghost_dofs`."""
-        lib = library() if use and not solver.serial else None
-        if lib is None:
-            return None
-        return cls(lib, solver, ops, gather(cls.ghost_dofs(solver, ops.m_diag.size)))
-
-    @staticmethod
-    def ghost_dofs(solver, nnodes):
-        """The global dofs of the nodes before and after this rank's."""
-        n0, n1 = solver.space.nodes
-        before = [2 * n0 - 2, 2 * n0 - 1] if n0 > 0 else []
-        after = [2 * n1, 2 * n1 + 1] if n1 < nnodes else []
-        return before + after
-
-    def close(self):
-        values, g, s = self.gather(self.solver.X), self.ghost, self.solver
-        if self.has_left:
-            g[0:2] = values[0:2]
-        if self.has_right:
-            g[2:4] = values[-2:]
-            s.u_ghost += values[-1]
-            g[4] = s.u_ghost
-        self.lib.vst_close_ghosted(self.ref, self.ghost_ref, self.has_left, self.has_right)
-
-    def energies(self):
-        """None: the EnergyBook sums the state's energies over the ranks."""
-        return None

@@ -21,7 +21,7 @@ from vstpetsc import slab
 from vstpetsc.envelope import StressEnvelope
 from vstpetsc.errors import SolveFailed
 from vstpetsc.loading import SlabLoads
-from vstpetsc.native.closing import GhostedClose, SlabClose
+from vstpetsc.native.closing import SlabClose
 from vstpetsc.petsc.fields import FieldTerms
 from vstpetsc.petsc import material_newton
 from vstpetsc.petsc.law_solver import LawSolver
@@ -30,7 +30,7 @@ from vstpetsc.petsc.matrices import block_matrix
 from vstpetsc.petsc.reactions import Reactions
 from vstpetsc.petsc.slab_end import SlabEnd
 from vstpetsc.petsc.slab_state import SlabState
-from vstpetsc.petsc.space import DofGather, Space
+from vstpetsc.petsc.space import Space
 from vstpetsc.petsc.work import DampingWork
 
 
@@ -88,11 +88,8 @@ class SlabSolver(SlabState):
         self.damping = DampingWork(self.space, ops, dt, self.V, options.mat_type)
         self.envelope = StressEnvelope(model.mesh, nodes)
         self.u_ghost = 0.0
-        # the slab's end in compiled code, G's product included, on one
-        # rank or on each of several (numpy's with -vst_native 0)
-        gather = lambda dofs: DofGather(self.X, dofs, nodes)      # noqa: E731
-        self.end = (SlabClose.of(self, ops, options.native) or
-                    GhostedClose.of(self, ops, options.native, gather) or SlabEnd(self, ops))
+        # one rank: the slab's end in compiled code, G's product included
+        self.end = SlabClose.of(self, ops, options.native) or SlabEnd(self, ops)
         self.nonlinear = LawSolver(model, options, self)
         self.laws = self.nonlinear.laws
         self.material = material_newton.of(model, self, options)
