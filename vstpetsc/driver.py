@@ -184,7 +184,7 @@ class TimeLoop:
         self.peak = abs(self.energy.initial)
         self.solver.set_state(u, v, envelopes)
         if rhs is not None:
-            self.solver.set_restart_state(rhs)
+            self.solver.restart.restore(rhs)
         if self.talk:
             self.out.write(header(case, model, self.output, self.solver, self.comm.getSize()))
             if restart:
