@@ -183,7 +183,7 @@ class TimeLoop:
         energy0 = self.energy.held0
         self.solver.set_state(u, v, envelopes)
         if rhs is not None:
-            self.solver.set_restart_state(rhs)
+            self.solver.restart.restore(rhs)
         if self.talk:
             self.out.write(header(case, model, self.output, self.solver, self.comm.getSize()))
             if restart:

@@ -104,17 +104,12 @@ class Recorder:
         the running right-hand side, Newton's start and the energy sums
         (collective)."""
         lo_hi = self.solver.envelopes(self.model.mesh.elem_node.size)
-        b = self.solver.rhs_state() if rhs else None
-        sums = self.solver.energy_sums() if rhs else None
+        saved = self.solver.restart.saved() if rhs else None
         if not self.rank0:
             return None
         out = layout.envelope_snapshots(self.model, *lo_hi)
         if rhs:
-            out[layout.RHS_STATE] = b
-            out[layout.NEWTON_STATE] = self.solver.nonlinear.state()
-            out[layout.ENERGY_STATE] = sums
-            if self.model.soil is not None:
-                out[layout.SOIL_STATE] = self.solver.soil_state()
+            out.update(saved)
         return out
 
     def gauge_row(self):

@@ -5,8 +5,8 @@ start its answer is the Python one (bit for bit while at most one pair
 acts at a time); and a whole slab of the pairs in one call
 (:class:`PenaltySlab`, the default), whose products with small matrices
 are plain loops instead of numpy's BLAS, so a run agrees with the Python
-one to rounding.  The end of a slab on one rank (slab_close.c) is in
-:mod:`vstpetsc.native.closing`, the copies of a kept row
+one to rounding.  The end of a slab (slab_close.c, on each rank's nodes)
+is in :mod:`vstpetsc.native.closing`, the copies of a kept row
 (row_copier.c) in :mod:`vstpetsc.native.rows`.
 
 `make install` builds ``libvstnative.so`` next to this file with the

@@ -52,6 +52,15 @@ class LinearSolver:
         self.serial_direct = self.direct and comm.getSize() == 1
         ksp.viewFromOptions("-ksp_view")
 
+    def vectors(self, space):
+        """((b, its array), (x, its array)): the solver's right-hand side
+        and solution, global vectors stored in numpy arrays of ours (for
+        the restricted Schwarz solve: views of its grown arrays, so that
+        their solve copies nothing)."""
+        if self.schwarz is not None:
+            return self.schwarz.owned_vectors(space.comm)
+        return space.array_vector(), space.array_vector()
+
     @staticmethod
     def _petsc_ksp(A, comm, overlap):
         """(ksp, pc): PETSc's KSP with vstpetsc's defaults, set up."""

@@ -26,6 +26,16 @@ def grown_range(nodes, nnodes, overlap):
     return max(0, n0 - overlap), min(nnodes, n1 + overlap)
 
 
+class Grown:
+    """A right-hand side and a solution over the grown range, in arrays of
+    ours, with their sequential PETSc vectors."""
+
+    def __init__(self, size):
+        self.b, self.x = np.zeros(size), np.zeros(size)
+        self.b_vec, self.x_vec = (PETSc.Vec().createWithArray(a, comm=PETSc.COMM_SELF)
+                                  for a in (self.b, self.x))
+
+
 class OverlapLU:
     """Solves A x = b approximately to rounding (docs/parallel.md) with the
     factors of each rank's grown block of the slab matrix A."""
@@ -43,28 +53,45 @@ class OverlapLU:
         self.pc.setFactorSolverType("petsc")
         self.pc.setFactorOrdering("natural")
         self.pc.setUp()
-        # the grown right-hand side and solution, in arrays of ours
-        self.b_grown = np.zeros(2 * (e1 - e0))
-        self.x_grown = np.zeros(2 * (e1 - e0))
-        self.b_vec, self.x_vec = (PETSc.Vec().createWithArray(a, comm=PETSc.COMM_SELF)
-                                  for a in (self.b_grown, self.x_grown))
         # owned dofs sit at [lo, hi) of the grown arrays; the ghosts around
         self.lo, self.hi = 2 * (n0 - e0), 2 * (n1 - e0)
+        # ``bound``: the solver's own b and x are views of its owned part
+        # (owned_vectors), so that their solve copies nothing in or out (two
+        # passes over the owned vector, 10 % of a slab at 1e6 elements);
+        # any other vectors go through ``spare``
+        self.bound, self.spare = Grown(2 * (e1 - e0)), Grown(2 * (e1 - e0))
+        self.owned = (None, None)
         ghosts = np.r_[2 * e0:2 * n0, 2 * n1:2 * e1].astype(PETSc.IntType)
-        places = np.r_[0:self.lo, self.hi:self.b_grown.size].astype(PETSc.IntType)
+        places = np.r_[0:self.lo, self.hi:2 * (e1 - e0)].astype(PETSc.IntType)
         template = A.createVecLeft()
         self.ghosts = PETSc.Scatter().create(
             template, PETSc.IS().createGeneral(ghosts, comm=PETSc.COMM_SELF),
-            self.b_vec, PETSc.IS().createGeneral(places, comm=PETSc.COMM_SELF))
+            self.bound.b_vec, PETSc.IS().createGeneral(places, comm=PETSc.COMM_SELF))
         self.mpi = space.comm.tompi4py()
+
+    def owned_vectors(self, comm):
+        """((b, its array), (x, its array)): global vectors of the
+        solver's layout on the owned part of the bound grown arrays; a
+        solve of that b into that x copies nothing.  Once per solver."""
+        out = []
+        for a in (self.bound.b, self.bound.x):
+            view = a[self.lo:self.hi]
+            out.append((PETSc.Vec().createWithArray(view, size=(view.size, PETSc.DECIDE),
+                                                    bsize=2, comm=comm), view))
+        self.owned = (out[0][0], out[1][0])
+        return out
 
     def apply(self, b, x):
         """x = the restricted Schwarz solution for b (global vectors)."""
-        self.ghosts.scatter(b, self.b_vec, addv=PETSc.InsertMode.INSERT,
+        rhs = self.bound if b is self.owned[0] else self.spare
+        sol = self.bound if x is self.owned[1] else self.spare
+        self.ghosts.scatter(b, rhs.b_vec, addv=PETSc.InsertMode.INSERT,
                             mode=PETSc.ScatterMode.FORWARD)
-        self.b_grown[self.lo:self.hi] = b.getArray(readonly=True)
-        self.pc.apply(self.b_vec, self.x_vec)
-        x.getArray()[:] = self.x_grown[self.lo:self.hi]
+        if rhs is self.spare:
+            rhs.b[self.lo:self.hi] = b.getArray(readonly=True)
+        self.pc.apply(rhs.b_vec, sol.x_vec)
+        if sol is self.spare:
+            x.getArray()[:] = sol.x[self.lo:self.hi]
 
     def finite(self, array):
         """Whether a solution (this rank's part ``array``) is finite on

@@ -1,7 +1,9 @@
 """The end of a slab with numpy and PETSc, on any number of ranks: the
 displacements, the envelopes, the running sum b += G z and the end
-velocities for output.  On one rank :class:`vstpetsc.native.closing.SlabClose`
-does the same in compiled code (and sums the state's energies too)."""
+velocities for output.  :class:`vstpetsc.native.closing.SlabClose` does
+the same in compiled code (and sums the state's energies too); this path
+runs with ``-vst_native 0`` or without the compiled library, and is the
+reference the compiled one is tested against."""
 
 import numpy as np
 
@@ -32,8 +34,8 @@ class SlabEnd:
         if not s.serial:                     # collective, also without a ghost
             ghost = self.ghost(s.X)
             if s.envelope.ghost:
-                s.u_ghost += ghost[0]
-        s.envelope.update(s.u, s.u_ghost)
+                s.u_ghost[0] += ghost[0]
+        s.envelope.update(s.u, s.u_ghost[0])
 
     def velocities(self):
         """v = z_1 V_1[0] + z_2 V_1[1] into the solver's v, in two ufuncs, not

@@ -18,19 +18,21 @@ import math
 import numpy as np
 
 from vstpetsc import slab
-from vstpetsc.energy import SUMS, SUMS_BEFORE_FRICTION
 from vstpetsc.envelope import StressEnvelope
 from vstpetsc.errors import SolveFailed
 from vstpetsc.loading import SlabLoads
 from vstpetsc.native.closing import SlabClose
-from vstpetsc.petsc.fields import FieldTerms
 from vstpetsc.petsc import material_newton
+from vstpetsc.petsc.energy_sums import EnergySums
+from vstpetsc.petsc.fields import FieldTerms
 from vstpetsc.petsc.law_solver import LawSolver
 from vstpetsc.petsc.linear import LinearSolver
 from vstpetsc.petsc.matrices import block_matrix
 from vstpetsc.petsc.reactions import Reactions
+from vstpetsc.petsc.restart import RestartState
 from vstpetsc.petsc.slab_end import SlabEnd
-from vstpetsc.petsc.space import Space
+from vstpetsc.petsc.slab_forces import SlabForces
+from vstpetsc.petsc.space import Halo, Space
 from vstpetsc.petsc.work import DampingWork
 
 
@@ -47,6 +49,15 @@ def schwarz_overlap(mesh, dt):
 class SlabSolver:
     """Assembles and solves the slab equations of ``model`` (laws included).
 
+    Its parts: the slab matrix A and its factors (:meth:`_linear_system`:
+    LinearSolver), the terms of a slab's right-hand side and their work
+    (:meth:`_slab_terms`: SlabForces, FieldTerms, Reactions, DampingWork,
+    EnergySums), the state between slabs and the end of a slab
+    (:meth:`_slab_state`: the envelopes, SlabClose or SlabEnd), and the
+    nonlinear laws (LawSolver, a soil's material Newton); what a restart
+    keeps of it (RestartState).  A slab is :meth:`rhs`, :meth:`solve` and
+    :meth:`advance`.
+
     Parameters
     ----------
     model : vstpetsc.model.Model
@@ -58,43 +69,57 @@ class SlabSolver:
     """
 
     def __init__(self, model, dt, comm, options, loads=None):
-        self.dt = dt
         loads = SlabLoads(model.laws, dt) if loads is None else loads
-        ops = model.ops
+        self.dt, self.ops, self.fixed_nodes = dt, model.ops, loads.fixed_nodes
         self.space = Space(model.mesh.nnodes, comm, options.ownership)
-        n0, n1 = nodes = self.space.nodes
+        self.serial, self.native = comm.getSize() == 1, options.native
+        # unknowns and rows mixed per node (slab.recurrence), and the carry
+        # of a term of the running sum into the next slab's
         self.W, self.V, _, _ = slab.recurrence(dt)
-        self.Vinv = np.linalg.inv(self.V)
-        self.WT = self.W @ slab.CARRY                     # W T
         self.carry = self.W @ (slab.CARRY - np.eye(2)) @ np.linalg.inv(self.W)
-        self.ops = ops
-        self.fixed_nodes = loads.fixed_nodes
-        self.A = block_matrix(self.matrix_blocks(), nodes, comm, options.mat_type)
-        # vectors stored in numpy arrays of ours (the per-slab numpy work
-        # uses the arrays, PETSc the vectors)
-        self.Y, self.y = self.space.array_vector()    # (u, v) per node, for output
-        self.X, self.x = self.space.array_vector()    # slab unknowns z per node
-        self.b, self.br = self.space.array_vector()   # W r: the running right-hand side
-        self.v = np.zeros(n1 - n0)      # v^2 of the owned nodes, formed for output
-        self.serial = comm.getSize() == 1
-        self.native = options.native
-        self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
-        self._loads = None              # (local dofs, -W T f, f) of the open slab
-        self._row_cache = {}
-        self.linear = LinearSolver(self.A, self.space, schwarz_overlap(model.mesh, dt))
-        self.fields = FieldTerms(self.space, loads, self.W, self.V, dt)
-        self.reactions = None if loads.all_fixed else \
-            Reactions(self.space, ops, dt, self.W, self.V, loads.fixed_nodes)
-        self.damping = DampingWork(self.space, ops, dt, self.V, options.mat_type)
-        self.envelope = StressEnvelope(model.mesh, nodes)
-        self.u_ghost = 0.0
-        # one rank: the slab's end in compiled code, G's product included
-        self.end = SlabClose.of(self, ops, options.native) or SlabEnd(self, ops)
+        self._linear_system(model, options)
+        self._slab_terms(loads, options)
+        self._slab_state(model, options)
         self.nonlinear = LawSolver(model, options, self)
         self.laws = self.nonlinear.laws
         self.material = material_newton.of(model, self, options)
-        self.work = {"damping": 0.0}       # sums, the same on every rank
-        self.local_work = 0.0          # this rank's share of the external work
+        self.restart = RestartState(self)
+
+    def _linear_system(self, model, options):
+        """A, its factors (the linear solver, set up here) and the vectors
+        of a slab: the running right-hand side b (W r) and the unknowns X
+        (z per node), both stored in numpy arrays of ours (br, x: the
+        per-slab numpy work uses the arrays, PETSc the vectors)."""
+        self.A = block_matrix(self.matrix_blocks(), self.space.nodes, self.space.comm,
+                              options.mat_type)
+        self.linear = LinearSolver(self.A, self.space, schwarz_overlap(model.mesh, self.dt))
+        (self.b, self.br), (self.X, self.x) = self.linear.vectors(self.space)
+
+    def _slab_terms(self, loads, options):
+        """The terms of a slab's right-hand side beyond the running sum,
+        and the sums of their work."""
+        self.fields = FieldTerms(self.space, loads, self.W, self.V, self.dt)
+        self.reactions = None if loads.all_fixed else \
+            Reactions(self.space, self.ops, self.dt, self.W, self.V, loads.fixed_nodes)
+        self.forces = SlabForces(self.space.nodes, self.W, self.V, self.reactions)
+        self.damping = DampingWork(self.space, self.ops, self.dt, self.V, options.mat_type)
+        self.sums = EnergySums(self.space, self.damping, self.fields, self.forces,
+                               self.reactions)
+
+    def _slab_state(self, model, options):
+        """The state between slabs (this rank's u, the v^2 formed for
+        output, the envelopes) and the end of a slab that updates it: in
+        compiled code, G's product included (on several ranks with the
+        neighbours' z through a halo), or numpy's."""
+        n0, n1 = nodes = self.space.nodes
+        self.Y, self.y = self.space.array_vector()    # (u, v) per node, for output
+        self.u = np.zeros(n1 - n0)      # displacement of the owned nodes
+        self.v = np.zeros(n1 - n0)      # v^2 of the owned nodes, formed for output
+        self.u_ghost = np.zeros(1)      # u of node n1 (the next rank's first), if any
+        self.envelope = StressEnvelope(model.mesh, nodes)
+        halo = None if self.serial else Halo(self.X, nodes, model.mesh.nnodes)
+        self.end = SlabClose.of(self, self.ops, options.native, halo) or \
+            SlabEnd(self, self.ops)
 
     def matrix_blocks(self):
         """The block bands (N, 3, 2, 2) of A: the slab matrix in the mixed
@@ -112,33 +137,10 @@ class SlabSolver:
         running b and set the prescribed velocities: (nodes, values (n, 2))
         pairs in the velocity basis, global node numbers (nodes not owned
         are skipped); ``fields`` the integrals of the body forces."""
-        arr = self.br
-        self._loads = None
-        nodes, per = forces
-        if nodes.size:
-            idx, own = self._rows(nodes)
-            arr[idx] += (per[own] @ self.W.T).ravel()
-            self._loads = (idx, -(per[own] @ self.WT.T).ravel(), per[own])   # for advance()
+        self.forces.add(self.br, forces)
         if fields.size:
-            self.fields.add(arr, fields)
-        nodes, vals = velocities
-        if nodes.size:
-            idx, own = self._rows(nodes)
-            if self.reactions is not None:
-                self.reactions.hold(arr)
-                arr[idx] = (vals @ self.Vinv.T)[own].ravel()
-            else:                              # fixed nodes: zero velocities
-                arr[idx] = 0.0
-
-    def _rows(self, nodes):
-        """(local dofs of the owned ones among ``nodes``, their mask), cached
-        per node array (the loads' and constraints' nodes never change)."""
-        key = id(nodes)
-        if key not in self._row_cache:
-            n0, n1 = self.space.nodes
-            own = (nodes >= n0) & (nodes < n1)
-            self._row_cache[key] = ((2 * (nodes[own] - n0)[:, None] + np.arange(2)).ravel(), own)
-        return self._row_cache[key]
+            self.fields.add(self.br, fields)
+        self.forces.prescribe(self.br, velocities)
 
     def solve(self, slab_index):
         """Solve the slab for the current b; returns (Newton its, linear its)."""
@@ -156,14 +158,14 @@ class SlabSolver:
     def advance(self):
         """Close the slab: its energy terms, b += G z (the running sum)
         minus the force terms, u += z_2 (slab.recurrence)."""
-        self._slab_work()
         arr = self.br
+        if self.reactions is not None:
+            self.reactions.solved(self.X)
+        self.sums.add_slab(self.X, self.x)       # the laws' share: in their solvers
         if self.reactions is not None:
             self.reactions.carry(arr)
         self.end.close()
-        if self._loads is not None:
-            arr[self._loads[0]] += self._loads[1]
-            self._loads = None
+        self.forces.carry(arr)
         self.fields.carry(arr)
         if self.reactions is not None:
             self.reactions.carry_after(arr)
@@ -172,33 +174,9 @@ class SlabSolver:
         if self.material is not None:
             self.material.advance(self.b)
 
-    def _slab_work(self):
-        """Dashpots and external forces over the slab (the laws' share is
-        summed in _solve_laws)."""
-        if self.damping.D is not None:
-            self.work["damping"] += self.damping(self.X)
-        x = self.x
-        if self.fields.active:
-            self.local_work += self.fields.work(x)
-        if self._loads is not None:
-            idx, _, per = self._loads
-            self.local_work += float(np.sum(per * (x[idx].reshape(-1, 2) @ self.V.T)))
-        if self.reactions is not None:
-            self.reactions.solved(self.X)
-            self.local_work += self.reactions.work(x)
-
     def totals(self):
         """The summed energy terms over every rank (collective)."""
-        laws = dict(self.nonlinear.work)
-        # a moving wall's work through friction is external, the same on every
-        # rank, and so is the work of supports against a soil's stress
-        beyond = laws.get("wall", 0.0)
-        if self.material is not None:
-            soil = self.material.soil
-            laws["strain_beyond_linear"], laws["hysteretic"] = soil.energies()
-            beyond += soil.support_work
-        return {**self.work, **laws,
-                "external": self.space.sum_over_ranks(self.local_work) + beyond}
+        return self.sums.totals(self.nonlinear, self.material)
 
     def set_state(self, u, v, envelope=None):
         """Start from displacements u and velocities v (global node arrays):
@@ -210,66 +188,14 @@ class SlabSolver:
         self.br[:] = slab.apply_blocks(R, np.column_stack([u, v]), n0, n1).ravel()
         self.fields.fold(self.br)
         self.u[:] = u[n0:n1]
-        self._loads = None
+        self.forces.open = None
         self.nonlinear.set_state(u)
         if self.material is not None:
             self.material.soil.start(u)
-        self.u_ghost = float(u[n1]) if self.envelope.ghost else 0.0
+        self.u_ghost[0] = u[n1] if self.envelope.ghost else 0.0
         el = self.envelope.elements
         restored = None if envelope is None else (envelope[0][el], envelope[1][el])
-        self.envelope.start(self.u, self.u_ghost, restored)
-
-    def set_restart_state(self, state):
-        """Continue from the running right-hand side saved by rhs_state()
-        (a global array), the Newton state of the last slab and the energy
-        sums of energy_sums() ({layout name: array}, from the file), after
-        set_state: the restart is then bit for bit."""
-        from vstpetsc.results.layout import ENERGY_STATE, NEWTON_STATE, RHS_STATE, SOIL_STATE
-
-        n0, n1 = self.space.nodes
-        if RHS_STATE in state:
-            self.br[:] = state[RHS_STATE][2 * n0:2 * n1]
-        if NEWTON_STATE in state:
-            self.nonlinear.set_newton_state(state[NEWTON_STATE])
-        if ENERGY_STATE in state:
-            self._restore_sums(state[ENERGY_STATE])
-        if SOIL_STATE in state and self.material is not None:
-            saved = state[SOIL_STATE]
-            size = self.material.soil.snapshot().size
-            self.material.soil.restore(saved[:size])
-            self.material.restore(saved[size:])
-
-    def soil_state(self):
-        """A hysteretic soil's state and its Newton's start (None without
-        one; the same on every rank)."""
-        if self.material is None:
-            return None
-        return np.concatenate([self.material.soil.snapshot(), self.material.state()])
-
-    def energy_sums(self):
-        """The running sums of the energy terms (energy.SUMS order), then
-        every rank's share of the external work, on rank 0 (None
-        elsewhere; collective)."""
-        shares = self.space.gather_on_rank0(self.local_work)
-        if shares is None:
-            return None
-        sums = {**self.work, **self.nonlinear.work}
-        return np.array([sums.get(key, 0.0) for key in SUMS] + list(shares))
-
-    def _restore_sums(self, saved):
-        """Take back the sums of :meth:`energy_sums`; on another number of
-        ranks rank 0 takes the whole external work (equal to rounding)."""
-        rank, size = self.space.comm.getRank(), self.space.comm.getSize()
-        names = SUMS if saved.size != len(SUMS_BEFORE_FRICTION) + size else SUMS_BEFORE_FRICTION
-        sums, shares = saved[:len(names)], saved[len(names):]
-        for key, value in zip(names, sums.tolist()):
-            for work in (self.work, self.nonlinear.work):
-                if key in work:
-                    work[key] = value
-        if shares.size == size:
-            self.local_work = float(shares[rank])
-        else:
-            self.local_work = float(shares.sum()) if rank == 0 else 0.0
+        self.envelope.start(self.u, self.u_ghost[0], restored)
 
     def gather_state(self):
         """(u, v) of all nodes on rank 0 (None elsewhere); v = v^2 of the
@@ -293,11 +219,6 @@ class SlabSolver:
         """u_{i+1} - u_i of every node pair after the last slab, on one rank
         (the envelopes' own; None on several ranks)."""
         return self.envelope.buf if self.serial else None
-
-    def rhs_state(self):
-        """The running right-hand side of all dofs on rank 0 (None
-        elsewhere), between slabs."""
-        return self.space.to_rank0(self.b)
 
     def envelopes(self, nelements):
         """Elongation envelopes (lo, hi) of every element on rank 0 (None

@@ -118,3 +118,30 @@ class DofGather:
             vec.setValue(self.dofs[j], 1.0)
         vec.assemble()
         return vec
+
+
+class Halo:
+    """The z (two dofs) of the nodes just beyond this rank's ends, n0 - 1
+    and n1, from the global vector ``vec``: what the end of a slab needs
+    of its neighbours, in one scatter of up to four numbers (the DMDA's
+    ghost update would also copy every owned entry into a local vector).
+    After a call (collective) ``z_left`` and ``z_right`` hold them; None
+    where the mesh ends."""
+
+    def __init__(self, vec, nodes, nnodes):
+        n0, n1 = nodes
+        self.vec = vec
+        self.values = np.zeros(4)
+        left, right = n0 > 0, n1 < nnodes
+        self.z_left = self.values[0:2] if left else None
+        self.z_right = self.values[2:4] if right else None
+        dofs = [2 * n0 - 2, 2 * n0 - 1] * left + [2 * n1, 2 * n1 + 1] * right
+        filled = self.values[(0 if left else 2):(4 if right else 2)]
+        self.out = PETSc.Vec().createWithArray(filled, comm=PETSc.COMM_SELF)
+        iset = PETSc.IS().createGeneral(np.array(dofs, dtype=PETSc.IntType),
+                                        comm=PETSc.COMM_SELF)
+        self.scatter = PETSc.Scatter().create(vec, iset, self.out, None)
+
+    def __call__(self):
+        self.scatter.scatter(self.vec, self.out, addv=PETSc.InsertMode.INSERT,
+                             mode=PETSc.ScatterMode.FORWARD)
