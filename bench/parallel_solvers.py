@@ -182,22 +182,5 @@ def main(elements=None, slabs=None, *only):
         f.write("\n".join(lines) + "\n")
 
 
-def speedup_only():
-    """The speed-up rows measured anew, the solver table and the sweeps'
-    rows kept from parallel.json (they take many minutes)."""
-    with open(os.path.join(HERE, "parallel.json")) as f:
-        saved = json.load(f)
-    speed = [speedup(n, m) for n, m in ((100_000, 300), (saved["elements"], 100))]
-    saved["speedup"] = speed
-    with open(os.path.join(HERE, "parallel.json"), "w") as f:
-        json.dump(saved, f, indent=1)
-    lines = (solver_table(saved["rows"], saved["elements"], saved["slabs"]) +
-             speed_table(speed, saved["sweeps"]))
-    with open(os.path.join(HERE, "parallel.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-
-
 if __name__ == "__main__":
-    if sys.argv[1:] == ["--speedup-only"]:
-        sys.exit(speedup_only())
     sys.exit(main(*sys.argv[1:]))
