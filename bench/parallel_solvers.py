@@ -2,7 +2,11 @@
 ranks (issue 5): a clamped bar without contact, c dt / h = 1.
 
 Writes bench/parallel.json and the table bench/parallel.md.
-Run: make bench-parallel   (ELEMENTS=1000000 SLABS=40 by default)
+Run: make bench-parallel   (ELEMENTS=1000000 SLABS=40 by default; REPS=3
+repetitions of the speed-up rows)
+     bench/parallel_solvers.py [ELEMENTS [SLABS [SOLVER ...]]]  only those solvers' rows
+     bench/parallel_solvers.py --speedup [ELEMENTS]   only the speed-up rows again; the
+                                    solver table and the sweeps kept from parallel.json
 """
 
 import json
@@ -97,7 +101,7 @@ def speedup(elements, slabs, reps=3):
                 short, long = (run_seconds(folder, ranks, case_text(size, n).replace(
                     "every = 10", "every = 1000000000"), copies) for n in (slabs, 3 * slabs))
                 times[key].append((long - short) / (2 * slabs))
-    out = {"elements": elements, "slabs": slabs}
+    out = {"elements": elements, "slabs": slabs, "reps": reps}
     for key, t in times.items():
         out[f"{key}_min_ms"], out[f"{key}_median_ms"] = 1e3 * min(t), 1e3 * np.median(t)
     for key in ("two", "halves"):
@@ -142,9 +146,10 @@ def solver_table(rows, elements, slabs):
 
 
 def speed_table(speed, sweeps):
+    reps = speed[0].get("reps", 3)
     lines = ["", "Speed-up of the default: time per slab from the difference of runs of n and "
-             "3n slabs without output (set-up and the first and last rows cancel), 3 "
-             "repetitions; goal 2 ranks >= 1.6 x one rank at 1e6, faster at 1e5. Ideal: two "
+             "3n slabs without output (set-up and the first and last rows cancel), "
+             f"{reps} repetitions; goal 2 ranks >= 1.6 x one rank at 1e6, faster at 1e5. Ideal: two "
              "one-rank runs of half the bar at once (what two cores give with no "
              "communication and no overlap).", "",
              "| elements | slabs | 1 rank (LU) [ms] min / median | 2 ranks [ms] min / median "
@@ -168,12 +173,24 @@ def speed_table(speed, sweeps):
     return lines
 
 
-def main(elements=None, slabs=None, *only):
-    elements = int(elements or os.environ.get("ELEMENTS", 1_000_000))
-    slabs = int(slabs or os.environ.get("SLABS", 40))
-    rows = solver_rows(elements, slabs, only)
-    speed = [speedup(n, m) for n, m in ((100_000, 300), (elements, 100))]
-    sweeps = [sweep_speed.sweep_speedup(n) for n in (15_000, 40_000)]
+def main(*args):
+    reps = int(os.environ.get("REPS", 3))
+    if args[:1] == ("--speedup",):
+        # the speed-up rows again (they vary with the hour): the rest of the
+        # last full run kept
+        with open(os.path.join(HERE, "parallel.json")) as f:
+            last = json.load(f)
+        elements, slabs, rows, sweeps = (last[k] for k in ("elements", "slabs", "rows", "sweeps"))
+        big = int(args[1]) if len(args) > 1 else elements
+        speed = [speedup(n, m, reps) for n, m in ((100_000, 300), (big, 100))]
+    else:
+        given = list(args) + [None, None]
+        elements = int(given[0] or os.environ.get("ELEMENTS", 1_000_000))
+        slabs = int(given[1] or os.environ.get("SLABS", 40))
+        only = args[2:]
+        rows = solver_rows(elements, slabs, only)
+        speed = [speedup(n, m, reps) for n, m in ((100_000, 300), (elements, 100))]
+        sweeps = [sweep_speed.sweep_speedup(n) for n in (15_000, 40_000)]
     with open(os.path.join(HERE, "parallel.json"), "w") as f:
         json.dump({"elements": elements, "slabs": slabs, "rows": rows, "speedup": speed,
                    "sweeps": sweeps}, f, indent=1)
