@@ -66,16 +66,16 @@ def covers(chk, body, where):
 
 
 def check_alone(chk, bodies, contacts, soils):
-    """A hysteretic soil is solved by Newton on the whole slab, the
-    contact and soil laws by Newton on their own coordinates: one case
-    takes one of the two (reported on the first body with a shear_law)."""
+    """A hysteretic soil's Newton on the whole slab hosts contact pairs and
+    friction (vstpetsc.petsc.hosted_laws) but not Smith soil, whose
+    compiled slab keeps its laws' state itself: a case takes a shear_law or
+    [[soil]] (reported on the first body with a shear_law)."""
     first = next((i for i, b in enumerate(bodies) if b is not None and b.shear_law), None)
-    if first is None or not (contacts or soils):
+    if first is None or not soils:
         return
-    other = "[[contact]]" if contacts else "[[soil]]"
     chk.add(f"body[{first}] ({bodies[first].name}).shear_law",
-            f"a hysteretic soil cannot yet share a case with {other} (its Newton "
-            "takes the whole slab, theirs their own coordinates)")
+            "a hysteretic soil cannot yet share a case with [[soil]] (Smith soil's "
+            "Newton keeps its laws' state itself; the soil's Newton hosts [[contact]] only)")
 
 
 def build(model_bodies, mesh):

@@ -35,6 +35,7 @@ class LawSolver:
         self.laws = LawSet(model.nonlinear)
         self.active = self.laws.reduced > 0
         self.newton = None
+        self.hosted = False
         self.f = np.zeros(self.laws.reduced)      # the laws' terms of the last slab
         self.acted = False
         # f . y the laws took, summed per energy term ("contact", "soil")
@@ -57,6 +58,10 @@ class LawSolver:
         self.coupling = Coupling(self.laws, solver.X, space.nodes, solver.W, solver.V,
                                  solver.linear, solver.carry, solver.x)
         self.influence = LawInfluence(self.coupling.Zred, solver.x, space)
+        # a hysteretic soil's Newton takes the laws' rows (hosted_laws.py)
+        self.hosted = getattr(model, "soil", None) is not None
+        if self.hosted:
+            return
         if options.newton == "full":
             self.newton = Full(self.coupling, options.fd_jacobian, solver.A, solver.linear,
                                space)
@@ -118,6 +123,19 @@ class LawSolver:
             self.influence.subtract(laws.f)
         self.f[:] = laws.f
         self.acted = True
+        self._book(y)
+        return self.newton.iterations
+
+    def took(self, y, acting):
+        """The slab's terms and work after a soil's Newton that hosts the
+        laws converged at the coordinates y (their last evaluation)."""
+        self.f[:] = self.laws.f
+        self.acted = acting
+        if acting:
+            self._book(y)
+
+    def _book(self, y):
+        """The work f . y of each law into its energy terms."""
         f, y = self.f.tolist(), list(map(float, y))
         for j, key in enumerate(self.keys):
             work = f[2 * j] * y[2 * j] + f[2 * j + 1] * y[2 * j + 1]
@@ -127,7 +145,6 @@ class LawSolver:
             else:
                 for part, value in split(work):
                     self.work[part] += value
-        return self.newton.iterations
 
     def _solve_compiled(self, X, b, slab_index):
         """solve() for penalty pairs: one call for the slab's start, test,

@@ -30,6 +30,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.errors import SolveFailed
+from vstpetsc.petsc.hosted_laws import HostedLaws
 from vstpetsc.petsc.law_solver import wants_snes
 from vstpetsc.petsc.newton import solve_checked
 from vstpetsc.petsc.options import PREFIX
@@ -61,8 +62,10 @@ class SoilNewton:
     """What both Newtons share: the start, the convergence test, closing
     the slab (the soil's state, the supports' work) and the carry."""
 
-    def __init__(self, soil, solver):
+    def __init__(self, soil, solver, laws=None):
         self.soil = soil
+        self.laws = laws           # HostedLaws: contact pairs in the same Newton, or None
+        self.law_norm = 0.0        # |the laws' rows| at the last evaluation
         self.c = SoilCoupling(soil, solver)
         self.factors = None          # the tangent's factors (each Newton makes its own)
         self.A, self.linear, self.dt = solver.A, solver.linear, solver.dt
@@ -75,8 +78,11 @@ class SoilNewton:
         self.evaluated = None
         self.iterations = 0
 
-    def start(self, X, b):
-        """X -= A^{-1} W r_last (the predictor); the scale of the test."""
+    def start(self, X, b, slab_index):
+        """X -= A^{-1} W r_last (the predictor; the laws' likewise); the
+        scale of the test."""
+        if self.laws is not None:
+            self.laws.start(slab_index)
         if self.rows.any():
             self.F.zeroEntries()
             self.c.gather.add_rows(self.F, self.rows)
@@ -107,6 +113,10 @@ class SoilNewton:
         else:
             arrays[1][local] += rows
         self.evaluated = (values, D, Q, rows)
+        if self.laws is not None:
+            law_rows = self.laws.rows(X, tangent, None if arrays is None else arrays[0])
+            self.laws.add(F, law_rows, None if arrays is None else arrays[1])
+            self.law_norm = float(np.sqrt(law_rows.dot(law_rows)))
         if first:
             soil = self.soil
             self.element_norm = self.dt * float(np.linalg.norm(
@@ -115,7 +125,8 @@ class SoilNewton:
 
     def tolerance(self, rows, rtol=RTOL, atol=0.0):
         """The |F| a converged slab reaches."""
-        scale = self.b_norm + self.ax_norm + self.element_norm + self.rows_norm(rows)
+        scale = self.b_norm + self.ax_norm + self.element_norm + self.rows_norm(rows) + \
+            self.law_norm
         return max(atol, rtol * scale)
 
     def converged(self, fnorm, rows, rtol=RTOL, atol=0.0):
@@ -138,18 +149,24 @@ class SoilNewton:
         self.rows[...] = rows
         self.soil.support_work += self.c.support_work(Q, values)
         self.soil.finish(D[:, 0], D[:, 1], Q, self.dt)
+        if self.laws is not None:
+            self.laws.converged()
 
     def state(self):
         """What the next slab starts from, for a restart: the last slab's
-        rows, whether factors of the tangent are in use and its blocks."""
+        rows, whether factors of the tangent are in use and its blocks
+        (the soil's, then the hosted laws')."""
         f = self.factors
-        return np.concatenate([self.rows, [float(f.fresh)], f.blocks.ravel()])
+        laws = () if self.laws is None else self.laws.kept.ravel()
+        return np.concatenate([self.rows, [float(f.fresh)], f.blocks.ravel(), laws])
 
     def restore(self, state):
-        n = self.rows.size
+        n, ne = self.rows.size, self.factors.blocks.size
         self.rows[:] = state[:n]
+        if self.laws is not None:
+            self.laws.restore_blocks(state[n + 1 + ne:])
         if state[n]:
-            self.factors.refresh(state[n + 1:].reshape(-1, 2, 2))
+            self.factors.refresh(state[n + 1:n + 1 + ne].reshape(-1, 2, 2))
 
     def advance(self, b):
         """The converged forces carried over in the running sum (as the
@@ -161,21 +178,21 @@ class PlainSoilNewton(SoilNewton):
     """Newton in a plain loop; tolerances from ``-snes_rtol``, ``-snes_atol``
     and ``-snes_max_it`` as the laws' plain Newton reads them."""
 
-    def __init__(self, soil, solver):
-        super().__init__(soil, solver)
+    def __init__(self, soil, solver, laws=None):
+        super().__init__(soil, solver, laws)
         opts = PETSc.Options()
         self.rtol = opts.getReal(PREFIX + "snes_rtol", RTOL)
         self.atol = opts.getReal(PREFIX + "snes_atol", 0.0)
         self.max_it = opts.getInt(PREFIX + "snes_max_it", MAX_IT)
         self.compiled = self._compiled(solver)
         if self.compiled is None:
-            self.factors = TangentFactors(self.c, solver)
+            self.factors = TangentFactors(self.c, solver, laws)
 
     def _compiled(self, solver):
         """The compiled loop (one rank, the compiled kernel), or None; it
         then holds the factors."""
         native = self.soil.native
-        if native is None or solver.space.comm.getSize() > 1 or \
+        if native is None or solver.space.comm.getSize() > 1 or self.laws is not None or \
                 not hasattr(native.lib, "vst_soil_newton"):
             return None
         from vstpetsc.native.soil_newton import CompiledSoilNewton
@@ -200,7 +217,7 @@ class PlainSoilNewton(SoilNewton):
     def solve(self, X, b, slab_index):
         if self.compiled is not None:
             return self._solve_compiled(X, slab_index)
-        self.start(X, b)
+        self.start(X, b, slab_index)
         last = 0.0
         F = self.F_plain
         arrays = None if self.c.local is None else (self.X_array, self.F_array)
@@ -237,9 +254,9 @@ class PlainSoilNewton(SoilNewton):
 class SnesSoilNewton(SoilNewton):
     """The SNES of slabs with a hysteretic soil."""
 
-    def __init__(self, soil, solver, fd_jacobian=False):
-        super().__init__(soil, solver)
-        self.factors = TangentFactors(self.c, solver)
+    def __init__(self, soil, solver, fd_jacobian=False, laws=None):
+        super().__init__(soil, solver, laws)
+        self.factors = TangentFactors(self.c, solver, laws)
         self.fd_jacobian = fd_jacobian
         self.blocks = None
         J = PETSc.Mat().createPython(self.A.getSizes(), context=_Tangent(self),
@@ -305,7 +322,7 @@ class SnesSoilNewton(SoilNewton):
             self.factors.refresh(self.blocks, self.c.tangent_data())
 
     def solve(self, X, b, slab_index):
-        self.start(X, b)
+        self.start(X, b, slab_index)
         self.last_rows = np.zeros(2 * self.c.n)
         self.iterations = solve_checked(self.snes, X, slab_index)
         self.close(X)
@@ -332,20 +349,30 @@ class _Tangent:
     def mult(self, mat, x, y):
         n, c = self.n, self.n.c
         n.A.mult(x, y)
+        laws = n.laws
         if n.fd_jacobian:
-            c.gather.add_rows(y, self._fd(x))
+            soil_rows, law_rows = self._fd(x)
+            c.gather.add_rows(y, soil_rows)
+            if laws is not None:
+                laws.add(y, law_rows)
             return
         c.gather.add_rows(y, c.tangent_rows(n.blocks, c.gather(x)))
+        if laws is not None:
+            laws.add(y, laws.tangent_rows(laws.c.gather(x)))
 
     def _fd(self, x):
+        """The soil's and the laws' rows of J x by central differences."""
         n = self.n
         h = n.h / max(1e-300, x.norm(PETSc.NormType.INFINITY))
         out = []
         for sign in (1.0, -1.0):
             n.X_at.copy(n.step)
             n.step.axpy(sign * h, x)
-            out.append(n.residual_rows(n.step))
-        return (out[0] - out[1]) / (2.0 * h)
+            laws = None if n.laws is None else n.laws.rows(n.step, tangent=False)
+            out.append((n.residual_rows(n.step), laws))
+        soil = (out[0][0] - out[1][0]) / (2.0 * h)
+        laws = None if n.laws is None else (out[0][1] - out[1][1]) / (2.0 * h)
+        return soil, laws
 
 
 def of(model, solver, options):
@@ -362,6 +389,7 @@ def of(model, solver, options):
             from vstpetsc.native.masing import NativeMasing
 
             soil.native = NativeMasing(lib, soil)
+    laws = HostedLaws(solver.nonlinear, solver) if solver.nonlinear.hosted else None
     if not options.fd_jacobian and not wants_snes():
-        return PlainSoilNewton(soil, solver)
-    return SnesSoilNewton(soil, solver, options.fd_jacobian)
+        return PlainSoilNewton(soil, solver, laws)
+    return SnesSoilNewton(soil, solver, options.fd_jacobian, laws)

@@ -149,7 +149,7 @@ class SlabSolver:
         newton = 0
         if self.material is not None:
             newton = self.material.solve(self.X, self.b, slab_index)
-        if self.nonlinear.active:
+        if self.nonlinear.active and not self.nonlinear.hosted:
             newton = self.nonlinear.solve(self.X, self.b, self.dt, slab_index)
         if not self.linear.finite(self.X, self.x):
             raise SolveFailed(f"slab {slab_index}: the solution is not finite")

@@ -99,10 +99,11 @@ class TangentFactors:
     (``linear``).  On several ranks every rank factors the whole matrix
     (PETSc's redundant PC), with the one-rank LU's settings."""
 
-    def __init__(self, coupling, solver):
+    def __init__(self, coupling, solver, laws=None):
         from vstpetsc.petsc.matrices import block_matrix
 
         self.linear = solver.linear
+        self.laws = laws          # HostedLaws whose blocks join the soil's, or None
         self.fresh = False
         self.blocks = np.zeros((coupling.soil.left.size, 2, 2))     # of the last refresh
         comm = solver.space.comm
@@ -115,6 +116,8 @@ class TangentFactors:
         self.data = np.ascontiguousarray(data)
         self.base = self.data.copy()
         self.at = self._slots(coupling, indptr, indices, n0, n1)
+        if laws is not None:
+            self.law_at = block_slots(indptr, indices, n0, n1, *laws.block_nodes)
         native = coupling.soil.native
         if native is not None:
             ne = coupling.soil.left.size
@@ -159,10 +162,7 @@ class TangentFactors:
                                       ("lr", gl, gl + 1, coupling.left),
                                       ("rr", gl + 1, gl + 1, coupling.right),
                                       ("rl", gl + 1, gl, coupling.right)):
-            mine = np.flatnonzero((rows >= n0) & (rows < n1))
-            slot = np.array([indptr[r - n0] + np.searchsorted(
-                indices[indptr[r - n0]:indptr[r - n0 + 1]], c)
-                for r, c in zip(rows[mine], cols[mine])], dtype=int)
+            mine, slot = block_slots(indptr, indices, n0, n1, rows, cols)
             out[key] = (mine, slot, free[node[mine]][:, None, None])
         return out
 
@@ -176,6 +176,10 @@ class TangentFactors:
             for key, sign in SIGNS:
                 mine, slot, free = self.at[key]
                 data[slot] += sign * free * blocks[mine]
+        if self.laws is not None:      # (a copy: the kernel's data stays its own)
+            mine, slot = self.law_at
+            data = data.copy()
+            data[slot] += self.laws.blocks()[mine]
         self.P.setValuesBlockedCSR(*self.csr, data.ravel())
         self.P.assemble()
         self.lu.setUp()
@@ -190,3 +194,12 @@ class TangentFactors:
     def apply(self, pc, r, y):
         """As a Python PC."""
         self.solve(r, y)
+
+
+def block_slots(indptr, indices, n0, n1, rows, cols):
+    """(which of the blocks (rows, cols) (global nodes) lie in the rows
+    n0..n1-1 this rank holds, their places in its block CSR data)."""
+    mine = np.flatnonzero((rows >= n0) & (rows < n1))
+    slot = np.array([indptr[r - n0] + np.searchsorted(indices[indptr[r - n0]:indptr[r - n0 + 1]], c)
+                     for r, c in zip(rows[mine], cols[mine])], dtype=int)
+    return mine, slot
