@@ -25,6 +25,11 @@ shaped by a Brune omega-squared source spectrum
 ends, its trapezoidal integral returning to rest at the end, scaled to a
 peak of 1 g = 9.81 m/s^2 (a case's `scale` is then the peak in g).
 
+rockfill-column-motion.csv: the two outcrop accelerations of the
+rockfill-column example, each made as nonlinear-site-motion.csv's (peak
+1 g) but 8 s long, from two seeds, the vertical with a corner frequency
+of 1 Hz (richer in short periods, as vertical records are).
+
 uplift-base.csv: the base velocity of the uplift example, 0.5 (1 - cos(2 pi 5
 t)) m/s for two cycles, then at rest, sampled at 2 kHz (its acceleration
 0.5 w sin(w t) starts from zero).
@@ -94,6 +99,13 @@ def dam_motion():
             14.0 * np.sin(2 * np.pi * 3.0 * t) * envelope)
 
 
+def rockfill_motion():
+    """(t, horizontal, vertical) of rockfill-column-motion.csv."""
+    t, horizontal = earthquake(seed=20261129, duration=8.0)
+    _, vertical = earthquake(seed=20261130, duration=8.0, corner=1.0)
+    return t, horizontal, vertical
+
+
 def write(name, header, t, *columns):
     path = os.path.join(FOLDER, name)
     with open(path, "w") as out:
@@ -111,6 +123,7 @@ def main():
           np.where(t <= 1.0, 3.0 * np.sin(2 * np.pi * t), 0.0))
     write("nonlinear-site-motion.csv", "time,acc", *earthquake())
     write("dam-interface-motion.csv", "time,horizontal,vertical", *dam_motion())
+    write("rockfill-column-motion.csv", "time,horizontal,vertical", *rockfill_motion())
     t = np.arange(0.0, 0.45 + 1e-9, 0.0005)
     write("uplift-base.csv", "time,velocity", t,
           np.where(t <= 0.4, 0.5 * (1 - np.cos(2 * np.pi * 5 * t)), 0.0))

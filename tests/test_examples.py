@@ -401,6 +401,27 @@ def test_dam_interface_lifts_off_and_slides(results):
     assert abs(e["numerical"][-1]) < 1e-3 * e["external"].max()
 
 
+def test_rockfill_column_yields_slides_and_lifts_off(results):
+    """The seed's column whole: the fill yields far beyond gamma_ref while
+    its interface with the plinth slides (slab means |T| <= mu N) and
+    opens (no shear force then); the balance holds both dissipations."""
+    r = results["rockfill-column"]
+    pair = r.contact(0)
+    mu = case_of(r).contacts[0].friction
+    assert pair.episodes[-1] >= 2
+    assert np.abs(pair.slip).max() > 1e-2
+    open_ = pair.force[1:] == 0.0
+    assert open_.any() and np.all(pair.shear_force[1:][open_] == 0.0)
+    assert np.all(np.abs(pair.shear_force) <= mu * pair.force * (1 + 1e-9) + 1e-9)
+    fill = r.body("fill")
+    x = fill.x
+    gamma_ref = mkz.parameters(case_of(r).bodies[1].shear_law, 0.5 * (x[1:] + x[:-1]))[1]
+    assert (fill.shear.strain_max / gamma_ref).max() > 10.0
+    e = r.energy
+    assert e["hysteretic"][-1] > e["friction"][-1] > 0.0
+    assert 0.0 <= e["numerical"][-1] < 1e-3 * e["external"].max()
+
+
 def site_numbers(r):
     """What docs/examples.md reports of a nonlinear-site run: the shear
     accelerations of the rock outcrop (twice the incident wave) and of the
