@@ -1,7 +1,9 @@
-"""The cost per slab of friction (issue 27): a 10 m soil column on a
+"""The cost per slab of friction (issues 27, 36): a 10 m soil column on a
 shaking wall, (a) axial only, (b) with its shear component, (c) with
-Coulomb friction at its base.  In-process runs interleaved, min and median
-of several, milliseconds per slab.
+Coulomb friction at its base, (d) yielding (MKZ) without friction, (e)
+yielding with friction at its base (the soil's Newton hosts the pair).
+In-process runs interleaved, min and median of several, milliseconds per
+slab; ratios against (b), the linear column without friction.
 
     .venv/bin/python bench/friction_cost.py [elements] [repeats]
 """
@@ -17,15 +19,20 @@ import numpy as np
 import vstpetsc
 
 H, RHO, VS, MU, G = 10.0, 2000.0, 100.0, 0.2, 9.81
+# yields to 20 gamma_ref and slides (0.3 m) under the wall's ramp
+MKZ = {"model": "mkz", "gamma_ref": 2.0e-3, "beta": 1.0, "s": 0.919}
+VARIANTS = ("axial", "shear", "friction", "yielding", "yielding+friction")
 
 
 def column(elements, variant):
-    """The column case of ``variant``: "axial", "shear" or "friction"."""
+    """The column case of ``variant`` (one of VARIANTS)."""
     body = {"name": "col", "x": [0.0, H], "elements": elements, "E": 1e10, "rho": RHO}
     contact = {"pair": ["wall", "col"], "wall": 0.0}
     if variant != "axial":
         body["Vs"] = VS
-    if variant == "friction":
+    if variant.startswith("yielding"):
+        body["shear_law"] = MKZ
+    if variant.endswith("friction"):
         contact.update(friction=MU, wall_shear_velocity=[[0.0, 0.0], [0.3, 1.5], [1.2, 1.5]])
     return vstpetsc.Case.from_dict({
         "time": {"dt": 0.5 * H / elements / VS, "end": 1.2}, "output": {"every": 10},
@@ -39,20 +46,21 @@ def per_slab(case, folder):
 
 
 def main(elements=64, repeats=5):
-    variants = ("axial", "shear", "friction")
+    variants = VARIANTS
     cases = {v: column(elements, v) for v in variants}
     times = {v: [] for v in variants}
     with tempfile.TemporaryDirectory() as folder:
         for _ in range(repeats):
             for v in variants:
                 times[v].append(per_slab(cases[v], folder))
-    base = min(times["axial"])
+    base = times["shear"]
     print(f"| column ({elements} elements, {cases['axial'].nslabs} slabs) | ms per slab, min "
-          "| median | min / axial |")
+          "| median | against the linear column without friction, min / median |")
     print("|---|---|---|---|")
     for v in variants:
         t = times[v]
-        print(f"| {v} | {min(t):.3f} | {statistics.median(t):.3f} | {min(t) / base:.2f} |")
+        print(f"| {v} | {min(t):.3f} | {statistics.median(t):.3f} | "
+              f"{min(t) / min(base):.2f} / {statistics.median(t) / statistics.median(base):.2f} |")
 
 
 if __name__ == "__main__":

@@ -59,6 +59,7 @@ class NativeMasing:
         self.buffers = [(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros((n, masing.DEPTH)),
                          np.zeros((n, masing.DEPTH)), np.zeros(n, dtype=np.int64))
                         for _ in range(2)]
+        self.addresses = [tuple(_ptr(a) for a in buffers) for buffers in self.buffers]
         self.turn = 0
         self.data = None
 
@@ -110,15 +111,22 @@ class NativeMasing:
 
     def _bind_state(self):
         """Point the struct at the state's arrays (again only when the
-        state holds new ones: after a slab closes)."""
+        state holds new ones: after a slab closes; then they are one of
+        the two sets of end-state buffers, whose addresses are kept)."""
         if self._state is not None and self._state[0] == self.soil.version:
             return
         st = self.soil.state
         arrays = (st.gamma, st.tau, st.direction, st.stack.g, st.stack.t, st.stack.k)
-        kept = tuple(np.ascontiguousarray(a) for a in arrays)
+        for buffers, addresses in zip(self.buffers, self.addresses):
+            if all(a is b for a, b in zip(arrays, buffers)):
+                kept = buffers
+                break
+        else:
+            kept = tuple(np.ascontiguousarray(a) for a in arrays)
+            addresses = tuple(_ptr(a) for a in kept)
         self._state = (self.soil.version, kept)
-        for name, arr in zip(("gamma", "tau", "dir", "sg", "st", "k"), kept):
-            setattr(self.s, name, _ptr(arr))
+        s = self.s
+        s.gamma, s.tau, s.dir, s.sg, s.st, s.k = addresses
 
     def bind_tangent_data(self, base, slots, coef):
         """Let every residual with the tangent also write the tangent's
@@ -142,8 +150,8 @@ class NativeMasing:
         self.s.dQ = None
         self.turn = 1 - self.turn
         out = self.buffers[self.turn]
-        for name, arr in zip(("gamma1", "tau1", "dir1", "sg1", "st1", "k1"), out):
-            setattr(self.s, name, _ptr(arr))
-        self.lib.vst_masing_slab(ctypes.byref(self.s))
+        s = self.s
+        s.gamma1, s.tau1, s.dir1, s.sg1, s.st1, s.k1 = self.addresses[self.turn]
+        self.lib.vst_masing_slab(ctypes.byref(s))
         self.s.gamma1 = None
         return (self.Q.copy(),) + out

@@ -29,6 +29,7 @@ class SoilCoupling:
         self.free = (~np.isin(nodes, solver.fixed_nodes)).astype(float)[:, None]
         self.held = 1.0 - self.free
         self.any_held = bool(self.held.any())
+        self._held()
         self.V, self.W = solver.V, solver.W
         self.scale = (self.dt / soil.h)[:, None]            # D_b = dt (v_r^b - v_l^b) / h
         if soil.native is not None:
@@ -84,8 +85,22 @@ class SoilCoupling:
         the linear rows do not see them)."""
         if not self.any_held:
             return 0.0
-        v = values.reshape(-1, 2) @ self.V.T
-        return float(np.sum(self.node_forces(element_forces) * self.held * v))
+        f = np.zeros((self.held_nodes.size, 2))
+        f[self.held_as_left[0]] -= element_forces[self.held_as_left[1]]
+        f[self.held_as_right[0]] += element_forces[self.held_as_right[1]]
+        v = values.reshape(-1, 2)[self.held_nodes] @ self.V.T
+        return float(np.sum(f * v))
+
+    def _held(self):
+        """The held nodes (gathered numbers) and, for each element with a
+        held node, (the node's place among them, the element), as its left
+        and as its right node."""
+        self.held_nodes = np.flatnonzero(self.held[:, 0])
+        place = -np.ones(self.n, dtype=int)
+        place[self.held_nodes] = np.arange(self.held_nodes.size)
+        for side, nodes in (("left", self.left), ("right", self.right)):
+            el = np.flatnonzero(place[nodes] >= 0)
+            setattr(self, f"held_as_{side}", (place[nodes[el]], el))
 
 
 # an element's four blocks in the tangent: (key, sign), in the order the
