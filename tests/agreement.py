@@ -14,7 +14,8 @@ the C compiler vectorises (its width set by -march) or in a
 transcendental (numpy picks its pow, exp and log kernels per CPU: AVX2,
 AVX-512 SVML or the C library's) agree to rounding only:
 
-- every dataset within ``rtol`` of its own largest value;
+- every dataset within ``rtol`` of its own largest value (an envelope,
+  ``*_min`` or ``*_max``: of the larger of the pair);
 - an energy term within ``rtol`` of the largest energy of the run: the
   numerical energy and the transferred work are small differences of
   large energies, so their own size says nothing of their rounding.
@@ -60,6 +61,18 @@ def energy_scale(data):
     return max(terms, default=0.0) or 1.0
 
 
+def field_scale(data, key):
+    """The largest |value| of the field a dataset holds: its own, or, for
+    one envelope of a pair (``stress_min``, ``stress_max``), of both (an
+    envelope that stays small beside the other is rounding of the field,
+    not of itself)."""
+    own = np.nanmax(np.abs(data[key]))
+    for end, other in (("_min", "_max"), ("_max", "_min")):
+        if key.endswith(end) and key[:-len(end)] + other in data:
+            own = max(own, np.nanmax(np.abs(data[key[:-len(end)] + other])))
+    return own or 1.0
+
+
 def differences(da, db, skip=SKIPPED):
     """{name: largest |a - b| over the scale it is measured against} for
     every dataset of two runs (NaN where one is NaN and the other not)."""
@@ -79,7 +92,7 @@ def differences(da, db, skip=SKIPPED):
         if not np.array_equal(np.isnan(x), np.isnan(y)):
             out[key] = np.nan
             continue
-        scale = energy if is_energy(key) else np.nanmax(np.abs(x)) or 1.0
+        scale = energy if is_energy(key) else field_scale(da, key)
         out[key] = np.nanmax(np.abs(x - y), initial=0.0) / scale
     return out
 

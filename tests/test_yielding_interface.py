@@ -70,7 +70,7 @@ def test_case_runs_in_the_soils_newton(shaken):
 
 
 @pytest.mark.parametrize("options, rtol, iterations", [
-    (["-vst_native", "0"], 1e-9, 0),
+    (["-vst_native", "0"], 1e-10, 0),
     (["-vst_fd_jacobian"], 1e-7, None),
     (["-newton_ksp_type", "preonly"], 1e-9, None),
 ], ids=["python", "fd_jacobian", "modified_newton"])
@@ -81,7 +81,11 @@ def test_every_newton_gives_the_same_run(tmp_path, shaken, options, rtol, iterat
     other = solve(tmp_path, shaken_case(), options=options)
     # the SNES keeps other factors of the tangent (the restart's state)
     skip = SKIPPED + (() if iterations == 0 else ("solver/soil_state",))
-    assert_runs_agree(shaken.path, other.path, rtol, iterations, skip)
+    assert_runs_agree(shaken.path, other.path, rtol, None, skip)
+    if iterations == 0:     # (linear solves are counted by each path its own way)
+        assert "compiled" in shaken.attrs["solver"] and "compiled" not in other.attrs["solver"]
+        assert np.array_equal(shaken.solver["newton_iterations"],
+                              other.solver["newton_iterations"])
 
 
 def test_restart_continues_bit_for_bit(tmp_path, shaken):
@@ -97,14 +101,18 @@ def test_restart_continues_bit_for_bit(tmp_path, shaken):
             assert np.array_equal(whole[key], cut[key], equal_nan=True), key
 
 
-def test_two_ranks_equal_one(tmp_path, shaken):
+def test_two_ranks_equal_one(tmp_path):
+    """Two ranks run the Newton's Python loop (every rank factors the whole
+    tangent): against one rank's Python loop within the documented 1e-10
+    (the compiled one-rank run: within 1e-10 of it, above)."""
     path = write_case(tmp_path, shaken_case())
     p = mpirun("run", path, "-o", tmp_path / "two.h5", "--quiet")
     assert p.returncode == 0, p.stderr
     two = vstpetsc.Result(str(tmp_path / "two.h5"))
     assert two.attrs["mpi_size"] == 2
+    one = solve(tmp_path, shaken_case(), options=["-vst_native", "0"])
     # solver/energy_sums: a share per rank
-    assert_runs_agree(shaken.path, two.path, 1e-10, iterations=None,
+    assert_runs_agree(one.path, two.path, 1e-10, iterations=None,
                       skip=SKIPPED + ("solver/energy_sums",))
 
 

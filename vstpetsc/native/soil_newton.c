@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "bands.h"
+#include "hosted_laws.h"
 #include "masing.h"
 
 typedef struct {
@@ -32,6 +33,7 @@ typedef struct {
     /* outputs */
     int iterations, converged;
     double fnorm;
+    HostedLaws *laws;          /* contact pairs and friction in the same Newton, or NULL */
 } SoilNewton;
 
 static double norm(const double *x, long n)
@@ -77,6 +79,8 @@ static void tangent(SoilNewton *s)
             s->J[12 * (l + 1) + k] -= rf * B[k];
         }
     }
+    if (s->laws)
+        hosted_tangent(s->laws, s->J);
 }
 
 /* the soil's part: gather z, the kernel, F += rows; returns the rows' norm */
@@ -150,13 +154,14 @@ void vst_soil_newton(SoilNewton *s, const double *b, double *X)
     for (int it = 0; it <= s->max_it; it++) {
         double ax = linear_residual(s, X, b, s->F);
         double rnorm = soil_residual(s, X, s->F, with_tangent);
+        double lnorm = s->laws ? hosted_residual(s->laws, X, s->F, with_tangent) : 0.0;
         if (it == 0)
             axnorm = ax, elnorm = element_norm(s);
         double fnorm = norm(s->F, n2);
         s->iterations = it, s->fnorm = fnorm;
-        if (!isfinite(fnorm))
+        if (!isfinite(fnorm) || (s->laws && s->laws->failed))
             return;
-        double target = fmax(s->atol, s->rtol * (bnorm + axnorm + elnorm + rnorm));
+        double target = fmax(s->atol, s->rtol * (bnorm + axnorm + elnorm + rnorm + lnorm));
         if (fnorm <= target) {
             s->converged = 1;
             return;

@@ -21,7 +21,7 @@ class _Newton(ctypes.Structure):
         [(name, ctypes.c_double) for name in ("rtol", "atol", "slow", "lagged")] + \
         [("max_it", ctypes.c_int), ("fresh", ctypes.c_int), ("rows_last", _P),
          ("kept_blocks", _P), ("iterations", ctypes.c_int), ("converged", ctypes.c_int),
-         ("fnorm", ctypes.c_double)]
+         ("fnorm", ctypes.c_double), ("laws", _P)]
 
 
 class CompiledSoilNewton:
@@ -53,6 +53,9 @@ class CompiledSoilNewton:
         bind(self.s, self.keep)
         self.s.m = ctypes.addressof(native.s)
         self.s.rows_last, self.s.kept_blocks = self.rows_last.ctypes.data, self.blocks.ctypes.data
+        if newton.laws is not None:         # the contact laws in the same Newton
+            self.hosted = newton.laws.compile(lib)
+            self.s.laws = ctypes.addressof(self.hosted)
         lib.vst_soil_factor_a(ctypes.byref(self.s))
 
     @property

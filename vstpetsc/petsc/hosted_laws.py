@@ -46,6 +46,10 @@ class HostedLaws:
             raise ValueError("a law couples nodes that are not neighbours")
         self.local = self.c.local
         self.acting = False
+        # y = R0 z_E and the rows U f on E (the compiled Newton's products)
+        self.R0 = self.c.R0
+        self.U = self.c.WE @ self.laws.P
+        self.native = None          # the laws in the compiled Newton (native/hosted_laws.py)
 
     def start(self, slab_index):
         """Before the slab's Newton: the laws' start, and the last slab's
@@ -58,13 +62,11 @@ class HostedLaws:
         """The laws' rows on E (W-mixed) at X (``array``: X's numpy array,
         one rank); with ``tangent`` their blocks too."""
         z = self.c.gather(X) if array is None else np.take(array, self.local)
-        s = (z.reshape(-1, 2) @ self.c.V.T).ravel()
-        self.y = self.laws.P.T @ s
+        self.y = self.R0 @ z
         self.acting = self.laws.evaluate(self.y)
         if tangent:
-            P = self.laws.P
-            self.jac = self.c.WE @ (P @ self.laws.jac @ P.T) @ self.c.VE
-        return self.c.WE @ (self.laws.P @ self.laws.f)
+            self.jac[...] = self.U @ self.laws.jac @ self.R0
+        return self.U @ self.laws.f
 
     def add(self, F, rows, array=None):
         """F += the rows (``array``: F's numpy array, one rank)."""
@@ -90,7 +92,16 @@ class HostedLaws:
         self.jac[...] = kept.reshape(self.jac.shape)
         return self.blocks()
 
+    def compile(self, lib):
+        """The laws' evaluation in the compiled Newton (its struct)."""
+        from vstpetsc.native.hosted_laws import CompiledLaws
+
+        self.native = CompiledLaws(lib, self)
+        return self.native.s
+
     def converged(self):
         """The slab's Newton converged with the laws' last evaluation at its
         solution: their terms and work to the LawSolver."""
+        if self.native is not None:
+            self.acting = self.native.finish()
         self.owner.took(self.y, self.acting)

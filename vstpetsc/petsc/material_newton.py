@@ -192,8 +192,12 @@ class PlainSoilNewton(SoilNewton):
         """The compiled loop (one rank, the compiled kernel), or None; it
         then holds the factors."""
         native = self.soil.native
-        if native is None or solver.space.comm.getSize() > 1 or self.laws is not None or \
+        if native is None or solver.space.comm.getSize() > 1 or \
                 not hasattr(native.lib, "vst_soil_newton"):
+            return None
+        from vstpetsc.native import hosted_laws
+
+        if self.laws is not None and not hosted_laws.takes(self.laws.laws.laws):
             return None
         from vstpetsc.native.soil_newton import CompiledSoilNewton
 
@@ -204,6 +208,9 @@ class PlainSoilNewton(SoilNewton):
         return compiled
 
     def _solve_compiled(self, X, slab_index):
+        if self.laws is not None:
+            self.laws.start(slab_index)
+            self.laws.native.prepare()
         its, converged, fnorm = self.compiled.solve(self.b_array, self.X_array, self.dt)
         if not converged:
             raise SolveFailed(f"slab {slab_index}: the soil's Newton did not converge in "
