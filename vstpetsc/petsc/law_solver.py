@@ -206,19 +206,7 @@ class LawSolver:
 
     def describe(self):
         """The Newton in use, for the run header."""
-        if self.newton is None:
-            return ""
-        if isinstance(self.newton, smith_slab.SmithSlab):
-            how = "a dense S" if self.newton.dense else "the slab matrix's bands"
-            return (f"; Newton: plain, compiled, on the laws' {self.laws.reduced} coordinates"
-                    f" (steps on {how})")
-        if isinstance(self.newton, native.NativeNewton):
-            return f"; Newton: plain, compiled, on the laws' {self.laws.reduced} coordinates"
-        if isinstance(self.newton, ReducedNewton):      # ManyLawNewton too
-            return f"; Newton: plain, on the laws' {self.laws.reduced} coordinates"
-        where = "all unknowns" if isinstance(self.newton, Full) else \
-            f"the laws' {self.laws.reduced} coordinates"
-        return f"; Newton: SNES {self.newton.snes.getType()} on {where}"
+        return describe_newton(self.newton, self.laws.reduced)
 
     def state(self):
         """[acted, f]: what the next slab's Newton starts from (a restart
@@ -232,3 +220,20 @@ class LawSolver:
 
     def set_state(self, u):
         self.laws.u[:] = u[self.laws.nodes]
+
+
+def describe_newton(newton, reduced):
+    """The laws' Newton for the run header (``reduced``: their coordinates)."""
+    if newton is None:
+        return ""
+    if isinstance(newton, smith_slab.SmithSlab):
+        how = "a dense S" if newton.dense else "the slab matrix's bands"
+        return (f"; Newton: plain, compiled, on the laws' {reduced} coordinates"
+                f" (steps on {how})")
+    if isinstance(newton, native.NativeNewton):
+        return f"; Newton: plain, compiled, on the laws' {reduced} coordinates"
+    if isinstance(newton, ReducedNewton):      # ManyLawNewton too
+        return f"; Newton: plain, on the laws' {reduced} coordinates"
+    where = "all unknowns" if isinstance(newton, Full) else \
+        f"the laws' {reduced} coordinates"
+    return f"; Newton: SNES {newton.snes.getType()} on {where}"

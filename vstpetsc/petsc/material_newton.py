@@ -255,7 +255,9 @@ class PlainSoilNewton(SoilNewton):
 
     def describe(self):
         where = ", compiled" if self.compiled is not None else ""
-        return f"; soil: Newton on all unknowns{where}, LU of the tangent (refreshed when slow)"
+        laws = "" if self.laws is None else " with the contact laws' rows"
+        return f"; soil: Newton on all unknowns{laws}{where}, LU of the tangent (refreshed " \
+               "when slow)"
 
 
 class SnesSoilNewton(SoilNewton):
