@@ -18,6 +18,8 @@ What is guaranteed, and why:
 - a restart of the compiled run is the uninterrupted one bit for bit
   (tests/test_friction.py, which runs compiled)."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -34,6 +36,7 @@ from vstpetsc.reduced_newton import ReducedNewton
 
 pytestmark = pytest.mark.skipif(native.library() is None, reason="kernels not built")
 FORMS = ("seed", "power")
+EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples")
 
 
 def solve_dense_as_c(M, r):
@@ -183,3 +186,23 @@ def test_runs_are_the_python_runs(tmp_path, make, form):
     da = datasets(a)
     assert_runs_agree(da, datasets(b), 1e-9, iterations=1)
     assert np.abs(da["contact/0/slip"]).max() > 0.0 and da["energy/friction"][-1] > 0.0
+
+
+@pytest.mark.parametrize("example", ["sliding-block.toml", "dam-interface.toml"])
+def test_wall_velocities_ahead_are_each_slabs_own(example):
+    """CoulombFriction.start_time takes the wall's velocities of many
+    slabs from one call of its history: each one the value of the slab's
+    own call (a table or an integrated record), on the driver's times and
+    off them, forwards, backwards (a restart) and after a jump."""
+    case = vstpetsc.Case.from_toml(os.path.join(EXAMPLES, example))
+    laws = [law for law in build_model(case).nonlinear if isinstance(law, CoulombFriction)]
+    assert laws
+    law, dt = laws[0], case.dt
+    if law.wall is None:        # a pair of bodies: give it the other example's wall
+        law.wall = next(other for other in build_model(vstpetsc.Case.from_toml(
+            os.path.join(EXAMPLES, "sliding-block.toml"))).nonlinear
+            if isinstance(other, CoulombFriction)).wall
+    times = [(k - 1) * dt for k in [*range(1, 1500), 700, 3, 2, 1200, 40000, 40001]]
+    for t in times + [t0 + 0.37 * dt for t0 in times[::50]]:
+        law.start_time(t)
+        assert law.wall_v == (float(law.wall(t)), float(law.wall(t + dt))), t
