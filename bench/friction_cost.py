@@ -52,7 +52,7 @@ def main(elements=64, repeats=5):
     print("|---|---|---|---|")
     for v in variants:
         t = times[v]
-        print(f"| {v} | {min(t):.3f} | {statistics.median(t):.3f} | {min(t) / base:.2f} |")
+        print(f"| {v} | {min(t):.4f} | {statistics.median(t):.4f} | {min(t) / base:.2f} |")
 
 
 if __name__ == "__main__":
