@@ -176,8 +176,23 @@ def sliding(form):
     return vstpetsc.Case.from_dict(doc)
 
 
+def stack(form):
+    """Two columns on a shaking wall, friction at the base and between
+    them, the upper one dropped: two pairs and two friction laws, both
+    sliding."""
+    t = np.linspace(0.0, 0.3, 50)
+    wall = np.column_stack([t, 2.0 * np.sin(20.0 * t)]).tolist()
+    return make_case(2.5e-4, 0.3, [bar("a", (0.0, 2.0), 10, E=1e9, rho=2000.0, Vs=200.0),
+                                   bar("b", (2.0, 4.0), 10, E=1e9, rho=2000.0, Vs=150.0,
+                                       v0=-0.1)],
+                     contacts=[{"pair": ["wall", "a"], "wall": 0.0, "friction": 0.3,
+                                "formulation": form, "wall_shear_velocity": wall},
+                               {"pair": ["a", "b"], "friction": 0.2, "formulation": form}],
+                     gravity={"g": -G_ACC}, every=4)
+
+
 @pytest.mark.parametrize("form", FORMS)
-@pytest.mark.parametrize("make", [thrown, sliding])
+@pytest.mark.parametrize("make", [thrown, sliding, stack])
 def test_runs_are_the_python_runs(tmp_path, make, form):
     case = make(form)
     a = solve(tmp_path, case, "c")
@@ -185,7 +200,9 @@ def test_runs_are_the_python_runs(tmp_path, make, form):
     assert "compiled" in a.attrs["solver"] and "compiled" not in b.attrs["solver"]
     da = datasets(a)
     assert_runs_agree(da, datasets(b), 1e-9, iterations=1)
-    assert np.abs(da["contact/0/slip"]).max() > 0.0 and da["energy/friction"][-1] > 0.0
+    for k in range(len(case.contacts)):
+        assert np.abs(da[f"contact/{k}/slip"]).max() > 0.0
+    assert da["energy/friction"][-1] > 0.0
 
 
 @pytest.mark.parametrize("example", ["sliding-block.toml", "dam-interface.toml"])
