@@ -69,7 +69,7 @@ def main(elements=64, repeats=5):
     print("|---|---|---|---|---|")
     for v in variants:
         t = times[v]
-        print(f"| {v} | {min(t):.3f} | {statistics.median(t):.3f} | "
+        print(f"| {v} | {min(t):.4f} | {statistics.median(t):.4f} | "
               f"{ratio(t, times['shear'])} | {ratio(t, times['welded'])} |")
 
 if __name__ == "__main__":

@@ -39,6 +39,9 @@ SERIES = ("shear_force", "slip", "shear_stretch")
 # 1.0 % off at 0.5, 0.20 / 0.065 / 0.013 % at 32; 256 gains little more
 # and costs twice the time (docs/shear.md)
 BETA = 32.0
+# slabs whose wall velocities one call of the wall's history gives (a call
+# per slab cost more than the compiled slab's friction)
+WALL_CHUNK = 512
 
 
 class CoulombFriction(Law):
@@ -68,14 +71,38 @@ class CoulombFriction(Law):
                       if b is not None], case.dt, BETA)
         self.stretch = self.slip = self.mean_force = 0.0
         self.wall_v = (0.0, 0.0)
+        self.wall_times = []    # slab start times of the wall velocities at hand ...
+        self.wall_ends = ([], [])   # ... and the velocities at those slabs' two ends
+        self.wall_next = 0      # where the next slab's start time is looked for
         self.last = None        # the FrictionSlab of the last force()
 
     def start_slab(self, u, dt):
         """Nothing: the stretch carries the spring's state across slabs."""
 
     def start_time(self, t0):
-        if self.wall is not None:
-            self.wall_v = (float(self.wall(t0)), float(self.wall(t0 + self.dt)))
+        """The wall's velocities at the slab's ends t0 and t0 + dt (from
+        those of the slabs ahead, evaluated at once)."""
+        if self.wall is None:
+            return
+        i = self.wall_next
+        if i >= len(self.wall_times) or self.wall_times[i] != t0:
+            i = self._wall_ahead(t0)
+        self.wall_v = (self.wall_ends[0][i], self.wall_ends[1][i])
+        self.wall_next = i + 1
+
+    def _wall_ahead(self, t0):
+        """The wall's velocities of WALL_CHUNK slabs from t0, the k-th at
+        t0 = k dt and t0 + dt as the driver and this law compute them
+        (elementwise the same operations as one slab's: the same values);
+        a t0 off that grid alone.  Returns t0's index."""
+        k = round(t0 / self.dt)
+        times = np.arange(k, k + WALL_CHUNK) * self.dt
+        if times[0] != t0:
+            times = np.array([t0])
+        self.wall_times = times.tolist()
+        self.wall_ends = (np.asarray(self.wall(times), dtype=float).tolist(),
+                          np.asarray(self.wall(times + self.dt), dtype=float).tolist())
+        return 0
 
     def acts(self, y1, y2):
         """Never on its own: it acts only where its pair does, and then

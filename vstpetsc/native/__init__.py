@@ -1,8 +1,8 @@
-"""Compiled kernels: the plain Newton for penalty contact pairs in C
-(penalty_newton.c), the same operations as
+"""Compiled kernels: the plain Newton for penalty contact pairs and their
+Coulomb friction in C (penalty_newton.c, coulomb.h), the same operations as
 :class:`vstpetsc.reduced_newton.ReducedNewton` so that from the same
-start its answer is the Python one (bit for bit while at most one pair
-acts at a time); and a whole slab of the pairs in one call
+start its answer is the Python one (bit for bit while at most one law
+acts at a time; a pair with friction is two); and a whole slab of the pairs in one call
 (:class:`PenaltySlab`, the default), whose products with small matrices
 are plain loops instead of numpy's BLAS, so a run agrees with the Python
 one to rounding.  The end of a slab (slab_close.c, on each rank's nodes)
@@ -21,6 +21,9 @@ import os
 
 import numpy as np
 
+from vstpetsc.laws.coulomb import FrictionSlab
+from vstpetsc.laws.friction import CoulombFriction
+from vstpetsc.laws.penalty import PenaltyContact
 from vstpetsc.reduced_newton import not_converged
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -38,7 +41,8 @@ class _Newton(ctypes.Structure):
                 ("atol", ctypes.c_double), ("dt", ctypes.c_double), ("S", _P), ("y0", _P),
                 ("y", _P), ("gn", _P), ("w", _P), ("power", _P), ("f", _P), ("out", _P),
                 ("integrals", _P), ("hit", _P), ("iterations", ctypes.c_int),
-                ("norm", ctypes.c_double)]
+                ("norm", ctypes.c_double), ("kind", _P), ("partner", _P), ("friction", _P),
+                ("stretch", _P), ("fslab", _P), ("unsettled", ctypes.c_int)]
 
 
 class _Slab(ctypes.Structure):
@@ -83,11 +87,59 @@ def bind(struct, arrays):
 
 
 def takes(laws):
-    """Whether the C Newton can solve for these laws: penalty pairs only
-    (a ``penalty`` and a ``power`` flag each), at most MAX_LAWS."""
-    from vstpetsc.laws.penalty import PenaltyContact
+    """Whether the C Newton can solve for these laws: penalty pairs (a
+    ``penalty`` and a ``power`` flag each) and the Coulomb friction of a
+    pair before it, at most MAX_LAWS."""
+    seen = set()
+    for law in laws:
+        if type(law) is CoulombFriction and id(law.pair) not in seen:
+            return False
+        if type(law) not in (PenaltyContact, CoulombFriction):
+            return False
+        seen.add(id(law))
+    return 0 < len(laws) <= MAX_LAWS
 
-    return 0 < len(laws) <= MAX_LAWS and all(type(law) is PenaltyContact for law in laws)
+
+class Frictions:
+    """The friction laws among a compiled Newton's laws, as the C reads
+    them: each one's kind and pair, its constants, the wall's velocities
+    and stretch of the slab (:meth:`load`), and its FrictionSlab back
+    (:meth:`finish`).  The laws keep their state (stretch, slip): their
+    finish_slab, values and restore are the Python path's."""
+
+    INPUTS, OUTPUTS = 5, 10     # penalty_newton.c FRICTION_INPUTS, FRICTION_OUTPUTS
+
+    def __init__(self, laws):
+        L = len(laws)
+        self.kind, self.partner = np.zeros(L, dtype=np.intc), np.full(L, -1, dtype=np.intc)
+        self.inputs, self.stretch = np.zeros(self.INPUTS * L), np.zeros(L)
+        self.fslab = np.zeros(self.OUTPUTS * L)
+        self.laws = [(j, law) for j, law in enumerate(laws) if type(law) is CoulombFriction]
+        where = {id(law): j for j, law in enumerate(laws)}
+        for j, law in self.laws:
+            self.kind[j], self.partner[j] = 1, where[id(law.pair)]
+            self.inputs[self.INPUTS * j:self.INPUTS * j + 3] = law.mu, law.stiffness, \
+                law.wall_sign
+
+    def arrays(self):
+        """The C struct's friction fields, in its order."""
+        return (self.kind, self.partner, self.inputs, self.stretch, self.fslab)
+
+    def load(self):
+        """Each law's stretch at t^n and the wall's velocities at the slab's
+        ends (its start_time's)."""
+        for j, law in self.laws:
+            self.stretch[j] = law.stretch
+            self.inputs[self.INPUTS * j + 3:self.INPUTS * j + 5] = law.wall_v
+
+    def finish(self, hit):
+        """Each law's FrictionSlab of the last evaluation (None where its
+        pair did not act), as its force() leaves it."""
+        if not self.laws:
+            return
+        values, n = self.fslab.tolist(), self.OUTPUTS
+        for j, law in self.laws:
+            law.last = FrictionSlab(*values[n * j:n * j + n]) if hit[j] else None
 
 
 class NativeNewton:
@@ -103,15 +155,20 @@ class NativeNewton:
         self.y0, self.y = np.zeros(2 * L), np.zeros(2 * L)
         self.f = lawset.f             # the C Newton writes the LawSet's terms itself
         self.gn = np.zeros(L)
-        self.w = np.array([law.penalty for law in self.laws], dtype=np.float64)
-        self.power = np.array([law.power for law in self.laws], dtype=np.intc)
+        # a friction law's entries unused (its pair's are read)
+        self.w = np.array([getattr(law, "penalty", 0.0) for law in self.laws], dtype=np.float64)
+        self.power = np.array([getattr(law, "power", 0) for law in self.laws], dtype=np.intc)
+        self.frictions = Frictions(self.laws)
+        self.pairs = [(j, law) for j, law in enumerate(self.laws)
+                      if type(law) is not CoulombFriction]
         self.out, self.integrals = np.zeros(6 * L), np.zeros(6 * L)
         self.hit = np.zeros(L, dtype=np.intc)
         self.max_it = max_it
         self.ctx = _Newton(L, max_it, rtol, atol, lawset.laws[0].dt,
                            *(a.ctypes.data for a in (self.S, self.y0, self.y, self.gn, self.w,
                                                      self.power, self.f, self.out,
-                                                     self.integrals, self.hit)), 0, 0.0)
+                                                     self.integrals, self.hit)), 0, 0.0,
+                           *(a.ctypes.data for a in self.frictions.arrays()), 0)
         self.ref = ctypes.addressof(self.ctx)
         self.iterations = 0
 
@@ -120,7 +177,8 @@ class NativeNewton:
         self.y0[:] = y0
         if start is not None:
             self.y[:] = start
-        self.gn[:] = [law.gn for law in self.laws]
+        self.gn[:] = [getattr(law, "gn", 0.0) for law in self.laws]
+        self.frictions.load()
         code = self.lib.vst_penalty_newton(self.ref, start is not None)
         return self._finish(code, slab_index)
 
@@ -129,7 +187,8 @@ class NativeNewton:
         ``ends``, PenaltySlab's, their gaps at t^n and pieces too)."""
         integrals, hit, y = self.integrals.tolist(), self.hit.tolist(), self.y.tolist()
         gn, count = (self.gn.tolist(), self.pieces.tolist()) if ends else (None, None)
-        for j, law in enumerate(self.laws):
+        self.frictions.finish(hit)
+        for j, law in self.pairs:
             if gn:
                 law.gn = gn[j]
             if hit[j]:      # the converged rates: the pair's events (finish_slab)
@@ -140,6 +199,8 @@ class NativeNewton:
                               for i in range(count[j])] if ends else None
             else:
                 law.last = law.pieces = None
+        if code == 3:
+            raise ArithmeticError("coulomb: friction switches did not settle in a slab")
         if code != 0:
             raise not_converged(slab_index, self.max_it, self.ctx.norm)
         self.iterations = self.ctx.iterations
@@ -161,7 +222,7 @@ class PenaltySlab(NativeNewton):
             node[2 * j:2 * j + idx.size] = idx
             sign[2 * j:2 * j + idx.size] = self.laws[j].signs
         self.node, self.sign = node, sign
-        self.g0 = np.array([law.g0 for law in self.laws], dtype=np.float64)
+        self.g0 = np.array([getattr(law, "g0", 0.0) for law in self.laws], dtype=np.float64)
         self.R0 = np.ascontiguousarray(R0, dtype=np.float64)
         self.xE = np.zeros(self.R0.shape[1])
         # the caller's terms of the previous slab, read in place (and a slab's
@@ -213,12 +274,15 @@ class PenaltySlab(NativeNewton):
         ``f_prev``, the pairs' ``last`` integrals and pieces, ``y`` and
         ``work`` are then the slab's."""
         self.slab.acted = acted
+        self.frictions.load()
         code = self.lib.vst_penalty_slab(self.ref, self.slab_ref)
         if self.slab.ran:
             self._finish(code, slab_index, self.ends.tolist())
             return True
-        for law, gap in zip(self.laws, self.gn.tolist()):     # the pairs' start_slab
-            law.gn = gap
-            if acted:              # the pairs' last evaluation: nothing in this slab
+        gn = self.gn.tolist()
+        for j, law in self.pairs:          # the pairs' start_slab
+            law.gn = gn[j]
+        if acted:                  # the laws' last evaluation: nothing in this slab
+            for law in self.laws:
                 law.last = None
         return False

@@ -1,10 +1,11 @@
 /* The plain Newton of vstpetsc.reduced_newton for penalty contact pairs
- * (vstpetsc.laws.penalty, vstpetsc.laws.gap), in C.
+ * (vstpetsc.laws.penalty, vstpetsc.laws.gap) and the Coulomb friction of
+ * pairs (vstpetsc.laws.friction, coulomb.h), in C.
  *
  * Same algorithm and the same floating-point operations in the same order
  * as the Python (built with -ffp-contract=off: no fused multiply-adds), so
- * a slab's answer is the Python one bit for bit whenever at most one pair
- * acts at a time; with several acting pairs the step's dense solve is
+ * a slab's answer is the Python one bit for bit whenever at most one law
+ * acts at a time (a pair with friction is two acting laws); with several acting pairs the step's dense solve is
  * Gaussian elimination here and LAPACK in numpy, equal to rounding
  * (tests/test_native.py checks both).
  *
@@ -15,9 +16,12 @@
 #include <string.h>
 
 #include "gap.h"
+#include "coulomb.h"
 #include "pair.h"
 
-#define MAX_ROWS 64            /* 2 x the pairs the kernel takes (32) */
+#define MAX_ROWS 64            /* 2 x the laws the kernel takes (32) */
+#define FRICTION_INPUTS 5      /* a friction law's mu, k_t, wall sign, wall v^1, v^2 */
+#define FRICTION_OUTPUTS 10    /* a FrictionSlab's numbers */
 
 typedef struct {
     int laws;                  /* L pairs: 2L coordinates y */
@@ -35,7 +39,66 @@ typedef struct {
     int *hit;                  /* out: whether each pair acted at the last evaluation */
     int iterations;            /* out */
     double norm;               /* out: the last residual's largest entry */
+    /* Coulomb friction beside the pairs (kind NULL: pairs only).  A
+     * friction law reads its pair's normal force of the same evaluation:
+     * its pair comes before it */
+    const int *kind;           /* (L) 0 a penalty pair, 1 the friction of pair partner[j] */
+    const int *partner;        /* (L) a friction law's pair */
+    const double *friction;    /* (5L) a friction law's FRICTION_INPUTS */
+    const double *stretch;     /* (L) a friction law's stretch at t^n */
+    double *fslab;             /* out: (10L) a friction law's FrictionSlab at the last evaluation */
+    int unsettled;             /* out: a friction law's switches did not settle */
 } Newton;
+
+/* CoulombFriction.force: friction law j at y, reading its pair's normal
+ * force of this evaluation (PenaltyContact.normal_force): whether it acts
+ * (its pair does) and then its terms in out (6) and its FrictionSlab */
+static int friction_force(Newton *c, int j, const double *y, double *out)
+{
+    int p = c->partner[j], count = 1;
+    double normal[3], pieces[6] = {0.0, 1.0}, a[3];
+    if (!c->hit[p])
+        return 0;
+    if (c->power[p]) {         /* k max(0, -g) on the gap's active pieces */
+        gap_coefficients(c->gn[p], y[2 * p], y[2 * p + 1], c->dt, a);
+        penalty_normal(a, c->w[p], normal);
+        count = active_intervals(a, pieces);
+    } else {                   /* the seed's slab mean J / dt on the whole slab */
+        const double *G = c->integrals + 6 * p;
+        normal[0] = -c->w[p] * (G[0] + G[1]) / c->dt;
+        normal[1] = normal[2] = 0.0;
+    }
+    const double *in = c->friction + FRICTION_INPUTS * j;
+    double wall = in[2];       /* the wall as a node of the pair: +1, -1 or 0 */
+    FrictionSlab slab;
+    if (coulomb_friction_integrals(c->stretch[j], -(y[2 * j] + wall * in[3]),
+                                   -(y[2 * j + 1] + wall * in[4]), c->dt, in[1], in[0],
+                                   normal, pieces, count, &slab)) {
+        c->unsettled = 1;
+        return 0;
+    }
+    memcpy(c->fslab + FRICTION_OUTPUTS * j, &slab, sizeof slab);
+    out[0] = slab.f1; out[1] = slab.f2;
+    out[2] = -slab.d11; out[3] = -slab.d12; out[4] = -slab.d21; out[5] = -slab.d22;
+    return 1;
+}
+
+/* penalty pair j at y (PenaltyContact.force): whether it acts, and then its
+ * integrals and terms */
+static int pair_force(Newton *c, int j, const double *y)
+{
+    double *G = c->integrals + 6 * j, *o = c->out + 6 * j, w = c->w[j];
+    if (!pair_integrals(c->gn[j], y[2 * j], y[2 * j + 1], c->dt, c->power[j], G))
+        return 0;
+    o[0] = -w * G[0]; o[1] = -w * G[1];
+    o[2] = w * G[2]; o[3] = w * G[3]; o[4] = w * G[4]; o[5] = w * G[5];
+    return 1;
+}
+
+static int is_friction(const Newton *c, int j)
+{
+    return c->kind != NULL && c->kind[j] != 0;
+}
 
 /* the pairs' outputs at y, r = y - y0 + S f and max |S f| (ReducedNewton._residual) */
 static double residual(Newton *c, const double *y, double *r, int *any)
@@ -44,13 +107,9 @@ static double residual(Newton *c, const double *y, double *r, int *any)
     double sf[MAX_ROWS];
     *any = 0;
     for (int j = 0; j < c->laws; j++) {
-        double *G = c->integrals + 6 * j, *o = c->out + 6 * j, w = c->w[j];
-        c->hit[j] = pair_integrals(c->gn[j], y[2 * j], y[2 * j + 1], c->dt, c->power[j], G);
-        if (c->hit[j]) {
-            *any = 1;
-            o[0] = -w * G[0]; o[1] = -w * G[1];
-            o[2] = w * G[2]; o[3] = w * G[3]; o[4] = w * G[4]; o[5] = w * G[5];
-        }
+        c->hit[j] = is_friction(c, j) ? friction_force(c, j, y, c->out + 6 * j)
+            : pair_force(c, j, y);
+        *any |= c->hit[j];
     }
     for (int i = 0; i < n; i++)
         sf[i] = 0.0;
@@ -200,13 +259,15 @@ static void keep(Newton *c)
     }
 }
 
-/* ReducedNewton.solve: 0 converged, 1 not (c->norm, c->iterations set) */
+/* ReducedNewton.solve: 0 converged, 1 not (c->norm, c->iterations set),
+ * 3 a friction law's switches did not settle (the Python's ArithmeticError) */
 int vst_penalty_newton(Newton *c, int from_start)
 {
     int n = 2 * c->laws, any;
     double r[MAX_ROWS], step[MAX_ROWS], trial[MAX_ROWS];
     if (c->laws < 1 || n > MAX_ROWS)
         return 2;
+    c->unsettled = 0;
     if (!from_start)
         memcpy(c->y, c->y0, n * sizeof(double));
     double sf = residual(c, c->y, r, &any);
@@ -215,6 +276,8 @@ int vst_penalty_newton(Newton *c, int from_start)
         memcpy(c->y, c->y0, n * sizeof(double));
         sf = residual(c, c->y, r, &any);
     }
+    if (c->unsettled)
+        return 3;
     double size = max_abs(c->y0, n), norm = max_abs(r, n);
     for (int it = 0; it <= c->max_it; it++) {
         if (norm <= fmax(c->atol, c->rtol * (size + sf))) {
@@ -231,6 +294,8 @@ int vst_penalty_newton(Newton *c, int from_start)
             for (int i = 0; i < n; i++)
                 trial[i] = c->y[i] - lam * step[i];
             sf = residual(c, trial, r, &any);
+            if (c->unsettled)
+                return 3;
             fresh = max_abs(r, n);
             if (fresh < norm || lam < 1e-5)
                 break;
@@ -283,7 +348,7 @@ static void pair_pieces(const Newton *c, Slab *s)
 {
     for (int j = 0; j < c->laws; j++) {
         double a[3];
-        if (!c->hit[j]) {
+        if (!c->hit[j] || is_friction(c, j)) {
             s->pieces[j] = 0;
             continue;
         }
@@ -355,6 +420,8 @@ int vst_penalty_slab(Newton *c, Slab *s)
         for (int m = 0; m < k2; m++)
             s->xE[m] = s->x[s->local[m]];
     for (int j = 0; j < L; j++) {
+        if (is_friction(c, j))   /* CoulombFriction.start_slab: nothing */
+            continue;
         /* PairLaw.start_slab: g0 - signs . u (every pair has a first node) */
         double moved = s->sign[2 * j] * s->u[s->node[2 * j]];
         if (s->node[2 * j + 1] >= 0)
@@ -369,6 +436,8 @@ int vst_penalty_slab(Newton *c, Slab *s)
     }
     for (int j = 0; j < L && !any; j++) {          /* LawSet.acts */
         double a[3];
+        if (is_friction(c, j))   /* friction acts only where its pair does */
+            continue;
         gap_coefficients(c->gn[j], c->y0[2 * j], c->y0[2 * j + 1], c->dt, a);
         any = closed_somewhere(a[0], a[1], a[2]);
     }

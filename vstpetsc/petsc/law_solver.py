@@ -100,7 +100,7 @@ class LawSolver:
         """Newton if a law acts for the law-free solution X (updated in
         place); returns the Newton iterations."""
         if isinstance(self.newton, native.PenaltySlab):
-            return self._solve_compiled(X, b, slab_index)
+            return self._solve_compiled(X, b, dt, slab_index)
         if isinstance(self.newton, smith_slab.SmithSlab):
             return self._solve_smith(dt, slab_index)
         laws = self.laws
@@ -137,32 +137,40 @@ class LawSolver:
     def _book(self, y):
         """The work f . y of each law into its energy terms."""
         f, y = self.f.tolist(), list(map(float, y))
-        for j, key in enumerate(self.keys):
-            work = f[2 * j] * y[2 * j] + f[2 * j + 1] * y[2 * j + 1]
-            split = self.splits[j]
+        self._book([f[2 * j] * y[2 * j] + f[2 * j + 1] * y[2 * j + 1]
+                    for j in range(len(self.keys))])
+        return self.newton.iterations
+
+    def _book(self, works):
+        """Add each law's work f . y of the slab to its energy term (a
+        friction law's split by its work_terms)."""
+        for key, split, work in zip(self.keys, self.splits, works):
             if split is None:
                 self.work[key] += work
             else:
                 for part, value in split(work):
                     self.work[part] += value
 
-    def _solve_compiled(self, X, b, slab_index):
-        """solve() for penalty pairs: one call for the slab's start, test,
-        guess, Newton and work (:class:`vstpetsc.native.PenaltySlab`); on
-        one rank it reads X and subtracts the pairs' influence itself."""
+    def _solve_compiled(self, X, b, dt, slab_index):
+        """solve() for penalty pairs and their friction: one call for the
+        slab's start, test, guess, Newton and work
+        (:class:`vstpetsc.native.PenaltySlab`); on one rank it reads X and
+        subtracts the pairs' influence itself."""
         step = self.newton
         if not step.bound:
             step.bind(self.coupling, self.influence, b.getArray())
         if not step.serial:
             self.coupling.unknowns(X, step.xE)
+        t0 = (slab_index - 1) * dt
+        for law in self.laws.timed:     # the walls' shear velocities (LawSet.start_slab)
+            law.start_time(t0)
         if not step.run(self.acted, slab_index):
             self.acted = False
             return 0
         if not step.serial:
             self.influence.subtract(step.f)
         self.acted = True               # (the call wrote the slab's terms into self.f)
-        for key, work in zip(self.keys, step.work.tolist()):
-            self.work[key] += work
+        self._book(step.work.tolist())
         return step.iterations
 
     def _solve_smith(self, dt, slab_index):
