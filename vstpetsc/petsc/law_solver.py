@@ -123,7 +123,7 @@ class LawSolver:
             self.influence.subtract(laws.f)
         self.f[:] = laws.f
         self.acted = True
-        self._book(y)
+        self._book_at(y)
         return self.newton.iterations
 
     def took(self, y, acting):
@@ -132,14 +132,13 @@ class LawSolver:
         self.f[:] = self.laws.f
         self.acted = acting
         if acting:
-            self._book(y)
+            self._book_at(y)
 
-    def _book(self, y):
-        """The work f . y of each law into its energy terms."""
+    def _book_at(self, y):
+        """The work f . y of each law at the coordinates y into its terms."""
         f, y = self.f.tolist(), list(map(float, y))
         self._book([f[2 * j] * y[2 * j] + f[2 * j + 1] * y[2 * j + 1]
                     for j in range(len(self.keys))])
-        return self.newton.iterations
 
     def _book(self, works):
         """Add each law's work f . y of the slab to its energy term (a
