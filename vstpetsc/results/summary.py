@@ -177,6 +177,36 @@ def body_summary(result, name):
             e = int(pick(env))
             row = int(pick(stress[:, e]))
             out[kind] = (float(env[e]), float(mid[e]), float(result.time[row]))
+    if "shear" in keys:
+        out["shear"] = shear_peaks(body.shear, x, result.time)
+    return out
+
+
+def shear_peaks(shear, x, time):
+    """The shear field's peaks of a body (its ``shear`` group, node
+    coordinates ``x``, the kept times): {"stress": (the signed stress of
+    largest magnitude, from the envelopes: every slab), "strain": (the
+    largest |strain| from ``strain_max``: every slab), "velocity": (the
+    signed velocity of largest magnitude at the kept rows)}, each as
+    (value, x, t): x an element's midpoint or a node, t the kept row where
+    that element's (node's) value is largest in magnitude.  Without
+    ``strain_max`` (a file of an older version) no "strain"."""
+    mid, out = 0.5 * (x[1:] + x[:-1]), {}
+    stress = shear.stress
+    if stress.size:
+        low, high = shear.stress_min, shear.stress_max
+        env = np.where(-low > high, low, high)
+        e = int(np.argmax(np.abs(env)))
+        out["stress"] = (float(env[e]), float(mid[e]), float(time[np.argmax(np.abs(stress[:, e]))]))
+        if "strain_max" in shear.keys():
+            strain = shear.strain_max
+            e = int(np.argmax(strain))
+            u = shear.u
+            kept = np.abs(u[:, e + 1] - u[:, e]) / (x[e + 1] - x[e])
+            out["strain"] = (float(strain[e]), float(mid[e]), float(time[np.argmax(kept)]))
+        v = shear.v
+        row, node = np.unravel_index(int(np.argmax(np.abs(v))), v.shape)
+        out["velocity"] = (float(v[row, node]), float(x[node]), float(time[row]))
     return out
 
 
@@ -231,6 +261,7 @@ def format_summary(s, path):
                 value, where, when = b[kind]
                 lines.append(f"      largest {kind} stress {value:.6g} at x = {where:.6g}, "
                              f"t = {when:.6g}")
+        lines += shear_lines(b.get("shear", {}))
     lines += gauge_lines(s.get("gauges", []))
     lines += soil_lines(s.get("soils", []), s.get("unit_length", "m"),
                         s["energy"].get("transferred", 0.0))
@@ -288,4 +319,19 @@ def soil_lines(soils, unit, transferred):
                   f"{per}",
                   f"    largest toe force {soil['toe_force_max']:.6g}, shaft force "
                   f"{soil['shaft_force_max']:.6g}; energy taken {soil['energy']:.6g}"]
+    return lines
+
+
+SHEAR_PEAKS = (("stress", "largest shear stress"), ("strain", "largest shear strain |dw/dx|"),
+               ("velocity", "largest shear velocity"))
+
+
+def shear_lines(peaks):
+    """`info`'s lines of a body's shear peaks (:func:`shear_peaks`): where
+    the largest value is, and when (at the kept rows)."""
+    lines = []
+    for key, label in SHEAR_PEAKS:
+        if key in peaks:
+            value, where, when = peaks[key]
+            lines.append(f"      {label} {value:.6g} at x = {where:.6g}, t = {when:.6g}")
     return lines
