@@ -78,11 +78,12 @@ def _site(f, result):
 
     case = result.case()
     soil, base = case.bodies[0], case.bcs[0].params
-    c = float(np.sqrt(soil.E(0.0) / soil.rho(0.0)))
+    c = float(np.sqrt(soil.G(0.0) / soil.rho(0.0)))      # the layer's Vs
     H = soil.x[1] - soil.x[0]
-    a = float(soil.rho(0.0)) * c / base["impedance"]
+    rho_rock, vs_rock, _ = base["rock"]
+    a = float(soil.rho(0.0)) * c / (rho_rock * vs_rock)
     t = result.time
-    freq, ratio = analysis.transfer_function(t, result.body("soil").v[:, -1],
+    freq, ratio = analysis.transfer_function(t, result.body("soil").shear.v[:, -1],
                                              2 * base["incident"](t))
     keep = freq <= 10.0
     fig, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
@@ -91,7 +92,7 @@ def _site(f, result):
             label=f"closed form 1/sqrt(cos^2 kH + a^2 sin^2 kH), a = {a:.3f}")
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("amplification")
-    ax.set_title("site-response: surface velocity over rock-outcrop velocity")
+    ax.set_title("site-response: surface shear velocity over rock-outcrop velocity")
     ax.legend(fontsize=8)
     fig.savefig(os.path.join(HERE, "figures", "site-response-transfer.png"), dpi=110)
     plt.close(fig)
@@ -342,7 +343,7 @@ def main():
                                   out=io.StringIO())
             res = result.run
             plot_result(out, os.path.join(HERE, "figures", name + ".png"))
-            with h5py.File(out, "r", locking=False) as f:
+            with h5py.File(out, "r", locking=False, swmr=True) as f:   # as Result reads it
                 key = KEY[name](f, result) if name in NEEDS_RESULT else KEY[name](f)
             story = [l[2:] if l.startswith("# ") else "" for l in text.splitlines()[2:]
                      if l.startswith("#")]
