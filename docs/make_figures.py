@@ -79,11 +79,12 @@ def _site(f, result):
 
     case = result.case()
     soil, base = case.bodies[0], case.bcs[0].params
-    c = float(np.sqrt(soil.E(0.0) / soil.rho(0.0)))
+    c = float(np.sqrt(soil.G(0.0) / soil.rho(0.0)))      # the layer's Vs
     H = soil.x[1] - soil.x[0]
-    a = float(soil.rho(0.0)) * c / base["impedance"]
+    rho_rock, vs_rock, _ = base["rock"]
+    a = float(soil.rho(0.0)) * c / (rho_rock * vs_rock)
     t = result.time
-    freq, ratio = analysis.transfer_function(t, result.body("soil").v[:, -1],
+    freq, ratio = analysis.transfer_function(t, result.body("soil").shear.v[:, -1],
                                              2 * base["incident"](t))
     keep = freq <= 10.0
     fig, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
@@ -92,7 +93,7 @@ def _site(f, result):
             label=f"closed form 1/sqrt(cos^2 kH + a^2 sin^2 kH), a = {a:.3f}")
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("amplification")
-    ax.set_title("site-response: surface velocity over rock-outcrop velocity")
+    ax.set_title("site-response: surface shear velocity over rock-outcrop velocity")
     ax.legend(fontsize=8)
     fig.savefig(os.path.join(HERE, "figures", "site-response-transfer.png"), dpi=110)
     plt.close(fig)

@@ -78,6 +78,27 @@ def quantities(result):
     for body in s["bodies"]:
         out[f"stress_min_{body['name']}"] = body.get("compression", (math.nan,))[0]
         out[f"stress_max_{body['name']}"] = body.get("tension", (math.nan,))[0]
+    out.update(shear_quantities(s))
+    return out
+
+
+def shear_quantities(s):
+    """The columns of a run with a shear component (some body's file has
+    /body/<name>/shear), from its summary ``s``: ``strain_max``, the largest
+    |shear strain| over every body's ``shear/strain_max``, and
+    ``hysteretic``, the last /energy/hysteretic (0 without a hysteretic
+    soil); {} for a run without one (its cells empty in the sweep's
+    summary), and no ``strain_max`` or ``hysteretic`` where the file lacks
+    the dataset (an older file)."""
+    peaks = [b["shear"] for b in s["bodies"] if "shear" in b]
+    if not peaks:
+        return {}
+    out = {}
+    strains = [p["strain"][0] for p in peaks if "strain" in p]
+    if strains:
+        out["strain_max"] = max(strains)
+    if "hysteretic" in s["energy"]:
+        out["hysteretic"] = s["energy"]["hysteretic"]
     return out
 
 

@@ -17,7 +17,9 @@ bit):
   ``stress_max`` of every element.
 
 XDMF (:func:`to_xdmf`): ``RESULT.xdmf`` beside the file, a temporal
-collection per body whose u, v (nodes) and stress (elements) point into
+collection per body whose u, v (nodes) and stress (elements), and on a body
+with a shear component shear_u, shear_v (nodes) and shear_stress
+(elements, the datasets ``shear/u``, ``shear/v``, ``shear/stress``), point into
 the result file's own datasets by hyperslab: nothing is copied, so the
 index costs kilobytes whatever the run's size.  meshio's XDMF writer was
 not used: it copies every array into a new HDF5 file named after the XDMF
@@ -34,6 +36,7 @@ from vstpetsc.gauges import SERIES as GAUGE_SERIES, SHEAR
 from vstpetsc.results import layout
 
 KEPT_GROUPS = ("energy", "solver")
+SHEAR_GROUP = "shear"       # /body/<name>/shear: the shear component's datasets
 
 
 def _write_csv(path, columns):
@@ -107,6 +110,16 @@ def _slab(h5, dataset, row, rows, width):
             f'Format="HDF">{h5}:/{dataset}</DataItem></DataItem>')
 
 
+def body_fields(result, body):
+    """[(XDMF attribute name, dataset under /body/<body>, "Node" or
+    "Cell")] of a body: u, v, stress, and shear_u, shear_v, shear_stress
+    (``shear/u``, ...) for a body with a shear component."""
+    out = [("u", "u", "Node"), ("v", "v", "Node"), ("stress", "stress", "Cell")]
+    if SHEAR_GROUP in result.body(body).keys():
+        out += [(SHEAR + key, f"{SHEAR_GROUP}/{key}", center) for _, key, center in out]
+    return out
+
+
 def _body_grids(result, body, h5):
     """The XML lines of the temporal collection of ``body``: the mesh inline
     in the first step, referenced by the others."""
@@ -123,11 +136,13 @@ def _body_grids(result, body, h5):
     shared = (f'<xi:include xpointer="xpointer(//Grid[@Name=\'{first}\']'
               '/*[self::Topology or self::Geometry])"/>')
     lines = [f'<Grid Name={quoteattr(body)} GridType="Collection" CollectionType="Temporal">']
+    fields = body_fields(result, body)
     for i, t in enumerate(times):
         lines.append(f'<Grid Name={quoteattr(f"{body}-{i}")} GridType="Uniform">'
                      + (mesh if i == 0 else shared) + f'<Time Value="{float(t)!r}"/>')
-        for key, center, width in (("u", "Node", nn), ("v", "Node", nn), ("stress", "Cell", ne)):
-            lines.append(f'<Attribute Name="{key}" AttributeType="Scalar" Center="{center}">'
+        for name, key, center in fields:
+            width = nn if center == "Node" else ne
+            lines.append(f'<Attribute Name="{name}" AttributeType="Scalar" Center="{center}">'
                          + _slab(h5, layout.body_path(body, key), i, times.size, width)
                          + "</Attribute>")
         lines.append("</Grid>")

@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from vstpetsc.results import layout
 from vstpetsc.results.layout import text
 
 NO_REFERENCE = 1e-12    # e0 below this fraction of the largest total energy is no reference
@@ -177,6 +178,38 @@ def body_summary(result, name):
             e = int(pick(env))
             row = int(pick(stress[:, e]))
             out[kind] = (float(env[e]), float(mid[e]), float(result.time[row]))
+    if "shear" in keys:
+        out["shear"] = shear_peaks(result, name, x)
+    return out
+
+
+def shear_peaks(result, name, x):
+    """The shear field's peaks of body ``name`` (node coordinates ``x``):
+    {"stress": (the signed stress of largest magnitude, from the envelopes:
+    every slab), "strain": (the largest |strain| from ``strain_max``: every
+    slab), "velocity": (the signed velocity of largest magnitude at the
+    kept rows)}, each as (value, x, t): x an element's midpoint or a node,
+    t the kept row where that element's (node's) value is largest in
+    magnitude (only that element's column is read).  Without
+    ``strain_max`` (a file of an older version) no "strain"."""
+    shear, path = result.body(name).shear, f"{layout.BODY}/{name}/shear"
+    mid, time, out = 0.5 * (x[1:] + x[:-1]), result.time, {}
+    if not time.size:
+        return out
+    low, high = shear.stress_min, shear.stress_max
+    env = np.where(-low > high, low, high)
+    e = int(np.argmax(np.abs(env)))
+    column = result.read(f"{path}/stress", np.s_[:, e])
+    out["stress"] = (float(env[e]), float(mid[e]), float(time[np.argmax(np.abs(column))]))
+    if "strain_max" in shear.keys():
+        strain = shear.strain_max
+        e = int(np.argmax(strain))
+        u = result.read(f"{path}/u", np.s_[:, e:e + 2])
+        kept = np.abs(u[:, 1] - u[:, 0]) / (x[e + 1] - x[e])
+        out["strain"] = (float(strain[e]), float(mid[e]), float(time[np.argmax(kept)]))
+    v = shear.v
+    row, node = np.unravel_index(int(np.argmax(np.abs(v))), v.shape)
+    out["velocity"] = (float(v[row, node]), float(x[node]), float(time[row]))
     return out
 
 
@@ -231,6 +264,7 @@ def format_summary(s, path):
                 value, where, when = b[kind]
                 lines.append(f"      largest {kind} stress {value:.6g} at x = {where:.6g}, "
                              f"t = {when:.6g}")
+        lines += shear_lines(b.get("shear", {}))
     lines += gauge_lines(s.get("gauges", []))
     lines += soil_lines(s.get("soils", []), s.get("unit_length", "m"),
                         s["energy"].get("transferred", 0.0))
@@ -288,4 +322,19 @@ def soil_lines(soils, unit, transferred):
                   f"{per}",
                   f"    largest toe force {soil['toe_force_max']:.6g}, shaft force "
                   f"{soil['shaft_force_max']:.6g}; energy taken {soil['energy']:.6g}"]
+    return lines
+
+
+SHEAR_PEAKS = (("stress", "largest shear stress"), ("strain", "largest shear strain |dw/dx|"),
+               ("velocity", "largest shear velocity"))
+
+
+def shear_lines(peaks):
+    """`info`'s lines of a body's shear peaks (:func:`shear_peaks`): where
+    the largest value is, and when (at the kept rows)."""
+    lines = []
+    for key, label in SHEAR_PEAKS:
+        if key in peaks:
+            value, where, when = peaks[key]
+            lines.append(f"      {label} {value:.6g} at x = {where:.6g}, t = {when:.6g}")
     return lines
