@@ -7,7 +7,6 @@ import os
 import sys
 import tempfile
 
-import h5py
 import numpy as np
 
 import vstpetsc
