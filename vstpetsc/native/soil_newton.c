@@ -34,6 +34,7 @@ typedef struct {
     int iterations, converged;
     double fnorm;
     HostedLaws *laws;          /* contact pairs and friction in the same Newton, or NULL */
+    double min_step;           /* with laws: the smallest fraction of a step tried */
 } SoilNewton;
 
 static double norm(const double *x, long n)
@@ -148,7 +149,7 @@ void vst_soil_newton(SoilNewton *s, const double *b, double *X)
         for (long k = 0; k < n2; k++)
             X[k] -= s->y[k];
     }
-    double bnorm = norm(b, n2), axnorm = 0.0, elnorm = 0.0, last = 0.0;
+    double bnorm = norm(b, n2), axnorm = 0.0, elnorm = 0.0, last = 0.0, lam = 1.0;
     int with_tangent = 1;
     s->converged = 0;
     for (int it = 0; it <= s->max_it; it++) {
@@ -168,6 +169,15 @@ void vst_soil_newton(SoilNewton *s, const double *b, double *X)
         }
         if (it == s->max_it)
             return;
+        if (s->laws && it > 0 && fnorm >= last && lam > s->min_step) {
+            /* a law switched within the step: half the step back */
+            lam *= 0.5;
+            for (long k = 0; k < n2; k++)
+                X[k] += lam * s->y[k];
+            with_tangent = 1;
+            continue;
+        }
+        lam = 1.0;
         int refresh = !s->fresh;
         if (!refresh && it > 0) {
             double rate = fnorm / last;

@@ -21,7 +21,7 @@ class _Newton(ctypes.Structure):
         [(name, ctypes.c_double) for name in ("rtol", "atol", "slow", "lagged")] + \
         [("max_it", ctypes.c_int), ("fresh", ctypes.c_int), ("rows_last", _P),
          ("kept_blocks", _P), ("iterations", ctypes.c_int), ("converged", ctypes.c_int),
-         ("fnorm", ctypes.c_double), ("laws", _P)]
+         ("fnorm", ctypes.c_double), ("laws", _P), ("min_step", ctypes.c_double)]
 
 
 class CompiledSoilNewton:
@@ -49,7 +49,8 @@ class CompiledSoilNewton:
         self.rows_last = newton.rows                   # updated in place by the newton
         self.blocks = np.zeros((soil.left.size, 2, 2))
         self.s = _Newton(N=N, rtol=tolerances[0], atol=tolerances[1], slow=tolerances[2],
-                         lagged=tolerances[3], max_it=tolerances[4], fresh=0)
+                         lagged=tolerances[3], max_it=tolerances[4], fresh=0,
+                         min_step=tolerances[5])
         bind(self.s, self.keep)
         self.s.m = ctypes.addressof(native.s)
         self.s.rows_last, self.s.kept_blocks = self.rows_last.ctypes.data, self.blocks.ctypes.data

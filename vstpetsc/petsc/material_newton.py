@@ -43,6 +43,9 @@ SLOW = 0.1
 REFRESH = 2
 LAGGED = 1
 RTOL, MAX_IT = 1e-12, 50
+# with contact laws in the Newton, a step that does not reduce |F| is
+# halved down to this fraction (ReducedNewton's rule)
+MIN_STEP = 1e-5
 
 
 def slow(fnorm, last, target):
@@ -202,7 +205,8 @@ class PlainSoilNewton(SoilNewton):
         from vstpetsc.native.soil_newton import CompiledSoilNewton
 
         compiled = CompiledSoilNewton(native.lib, self, native, solver,
-                                      (self.rtol, self.atol, SLOW, LAGGED, self.max_it))
+                                      (self.rtol, self.atol, SLOW, LAGGED, self.max_it,
+                                       MIN_STEP))
         self.factors = compiled
         self.b_array = solver.br
         return compiled
@@ -228,7 +232,7 @@ class PlainSoilNewton(SoilNewton):
         last = 0.0
         F = self.F_plain
         arrays = None if self.c.local is None else (self.X_array, self.F_array)
-        tangent = True
+        tangent, lam = True, 1.0
         for it in range(self.max_it + 1):
             rows, blocks = self.function(X, F, tangent, arrays)
             fnorm = F.norm()
@@ -240,6 +244,14 @@ class PlainSoilNewton(SoilNewton):
             if it == self.max_it:
                 raise SolveFailed(f"slab {slab_index}: the soil's Newton did not converge in "
                                   f"{self.max_it} iterations (|F| = {fnorm:.3g})")
+            if self.laws is not None and it > 0 and fnorm >= last and lam > MIN_STEP:
+                # a law switched within the step (contact, stick or slip):
+                # half the step back (|F| is only piecewise smooth there)
+                lam *= 0.5
+                X.axpy(lam, self.step)
+                tangent = True
+                continue
+            lam = 1.0
             if blocks is not None and (not self.factors.fresh
                                        or (it > 0 and slow(fnorm, last, target))):
                 self.factors.refresh(blocks, self.c.tangent_data())
