@@ -9,6 +9,8 @@ import them from here.
   linear record, and the single-mode coupled column (issue 27);
 - coulomb_column.py: an explicit lumped-mass shear column on a Coulomb
   base (issue 27);
+- yielding_interface.py: the two combined, MKZ soil with a Coulomb base,
+  and a block sliding on a yielding column over a Lysmer base;
 - smith.py: Smith's (1960) explicit lumped-mass pile-driving algorithm;
 - waves.py: the standing wave, the bar's impact on a wall and a soil
   layer's site response, with their exact solutions (issue 26).
