@@ -138,14 +138,16 @@ class SoilNewton:
     def rows_norm(self, rows):
         return float(np.sqrt(rows.dot(rows)))
 
-    def close(self, X):
-        """X is the slab's solution: the soil's state moves to the slab end."""
-        values = self.c.gather(X)
+    def close(self, X, at_solution=False):
+        """X is the slab's solution: the soil's state moves to the slab end
+        (``at_solution``: the compiled loop's last evaluation was at X)."""
+        values = self.evaluated[0] if at_solution else self.c.gather(X)
         # the compiled kernel's last call at X closes the slab; the numpy
         # reference evaluates X once more (its path object is the state's
         # next one, and a finite-difference Jacobian may have moved it)
         native = self.soil.native is not None
-        if native and self.evaluated is not None and np.array_equal(values, self.evaluated[0]):
+        if at_solution or (native and self.evaluated is not None
+                           and np.array_equal(values, self.evaluated[0])):
             _, D, Q, rows = self.evaluated
         else:
             rows, _, D, Q = self.c.residual(values, tangent=False)
@@ -222,7 +224,7 @@ class PlainSoilNewton(SoilNewton):
         native = self.soil.native
         self.evaluated = (native.values, native.D, native.Q, native.rows)
         self.iterations = its
-        self.close(X)
+        self.close(X, at_solution=True)
         return its
 
     def solve(self, X, b, slab_index):
