@@ -107,6 +107,17 @@ def run(newton, laws, y0, start):
             newton.iterations)
 
 
+def both_newtons(python, compiled, laws, rng):
+    """(a random slab's state, the Python Newton's answer, the compiled
+    one's), each from the same state of the pair and its friction."""
+    pair, friction = laws.laws
+    state = random_slab(rng, pair, friction)
+    saved = (pair.gn, friction.stretch, friction.wall_v)
+    a = run(python, laws, *state)
+    pair.gn, friction.stretch, friction.wall_v = saved
+    return state, a, run(compiled, laws, *state)
+
+
 @pytest.mark.parametrize("form", FORMS)
 def test_random_slabs_are_the_python_newton_bit_for_bit(form, rng, monkeypatch):
     """With the Python's dense solve made the C's elimination."""
@@ -118,11 +129,7 @@ def test_random_slabs_are_the_python_newton_bit_for_bit(form, rng, monkeypatch):
     python, compiled = ReducedNewton(laws, S), native.NativeNewton(laws, S)
     seen = set()
     for _ in range(1500):
-        state = random_slab(rng, pair, friction)
-        saved = (pair.gn, friction.stretch, friction.wall_v)
-        a = run(python, laws, *state)
-        pair.gn, friction.stretch, friction.wall_v = saved
-        b = run(compiled, laws, *state)
+        state, a, b = both_newtons(python, compiled, laws, rng)
         assert a == b, state
         if not isinstance(a, str) and a[3] is not None:
             seen.add("slip" if a[3].slip else "stick")
@@ -137,11 +144,7 @@ def test_random_slabs_with_lapack_agree_to_the_newton_tolerance(form, rng):
     S = block_solver(form).nonlinear.coupling.S_red
     python, compiled = ReducedNewton(laws, S), native.NativeNewton(laws, S)
     for _ in range(500):
-        state = random_slab(rng, pair, friction)
-        saved = (pair.gn, friction.stretch, friction.wall_v)
-        a = run(python, laws, *state)
-        pair.gn, friction.stretch, friction.wall_v = saved
-        b = run(compiled, laws, *state)
+        _, a, b = both_newtons(python, compiled, laws, rng)
         if isinstance(a, str) or isinstance(b, str):
             assert a == b
             continue
