@@ -52,6 +52,29 @@ def slab_matrix(ops, dt, w=np.eye(2), v=np.eye(2)):
     return node_blocks(ops, m=w @ HM @ v, c=dt * w @ HC @ v, k=dt * dt * w @ HK @ v)
 
 
+def sparse_slab_matrix(M, C, K, dt, w=np.eye(2), v=np.eye(2)):
+    """[A] = HM (x) M + dt HC (x) C + dt^2 HK (x) K for sparse spatial
+    matrices of any geometry (scipy.sparse; C None: undamped), unknowns
+    interleaved per spatial dof as the bands' are per node: index
+    2 d + a is time node a of dof d."""
+    import scipy.sparse as sp
+
+    A = sp.kron(M, w @ HM @ v) + sp.kron(K, dt * dt * w @ HK @ v)
+    if C is not None:
+        A = A + sp.kron(C, dt * w @ HC @ v)
+    return A.tocsr()
+
+
+def sparse_rhs(M, K, dt, u, v):
+    """r = R (u^n, v^{n-}) for sparse M, K (interleaved as sparse_slab_matrix):
+    r^1 = M v - dt/2 K u, r^2 = -dt/2 K u."""
+    ku = K @ u
+    r = np.empty(2 * u.size)
+    r[0::2] = M @ v - 0.5 * dt * ku
+    r[1::2] = -0.5 * dt * ku
+    return r
+
+
 def rhs_operator(ops, dt, w=np.eye(2)):
     """Blocks of the operator R with r = R (u^n, v^{n-}) (or of W R)."""
     return node_blocks(ops, m=w @ RM, k=dt * w @ RK)

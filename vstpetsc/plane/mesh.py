@@ -1,0 +1,82 @@
+"""A plane-strain mesh: nodes in the (x, y) plane (y up), cells of three
+(linear triangles) or four (bilinear quadrilaterals) nodes counter-
+clockwise, each in one named region, and named curves as lists of edges.
+
+Cells are one (ne, 4) array with -1 padding a triangle's fourth node (the
+result file's layout, interface.md "Plane strain (2-D)"), so that every
+kernel works on all cells of one kind at once.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class PlaneMesh:
+    """Nodes, cells, regions and curves.
+
+    Attributes
+    ----------
+    coordinates : (nn, 2) node coordinates.
+    cells : (ne, 4) node indices counter-clockwise; -1 pads a triangle.
+    region : (ne,) index of each cell's region in ``region_names``.
+    region_names : tuple of the regions' names.
+    curves : {name: (m, 2) edges as node pairs}.
+    """
+
+    coordinates: np.ndarray
+    cells: np.ndarray
+    region: np.ndarray
+    region_names: tuple = ("domain",)
+    curves: dict = field(default_factory=dict)
+
+    @property
+    def nnodes(self):
+        return self.coordinates.shape[0]
+
+    @property
+    def ncells(self):
+        return self.cells.shape[0]
+
+    @property
+    def triangles(self):
+        """Indices of the triangular cells."""
+        return np.flatnonzero(self.cells[:, 3] < 0)
+
+    @property
+    def quadrilaterals(self):
+        return np.flatnonzero(self.cells[:, 3] >= 0)
+
+    def curve_nodes(self, name):
+        """The sorted nodes of a named curve."""
+        return np.unique(self.curves[name])
+
+    def areas(self):
+        """(ne,) cell areas (shoelace; positive for counter-clockwise cells)."""
+        n = np.where(self.cells < 0, self.cells[:, [2]], self.cells)   # a triangle repeats a node
+        x, y = self.coordinates[n, 0], self.coordinates[n, 1]
+        return 0.5 * np.sum(x * np.roll(y, -1, axis=1) - np.roll(x, -1, axis=1) * y, axis=1)
+
+
+def rectangle(x, y, nx, ny, triangles=False):
+    """The structured mesh of [x0, x1] x [y0, y1] with nx x ny quadrilaterals
+    (each split into two triangles along its rising diagonal when
+    ``triangles``): region "domain", curves "left", "right", "bottom", "top"."""
+    xs, ys = np.linspace(x[0], x[1], nx + 1), np.linspace(y[0], y[1], ny + 1)
+    X, Y = np.meshgrid(xs, ys)                     # node (i, j) = j * (nx + 1) + i
+    coordinates = np.column_stack([X.ravel(), Y.ravel()])
+    node = np.arange((nx + 1) * (ny + 1)).reshape(ny + 1, nx + 1)
+    a, b = node[:-1, :-1].ravel(), node[:-1, 1:].ravel()      # a cell's lower left, right
+    c, d = node[1:, 1:].ravel(), node[1:, :-1].ravel()        # upper right, left
+    if triangles:
+        pad = -np.ones_like(a)
+        cells = np.column_stack([np.column_stack([a, b, c, pad]),
+                                 np.column_stack([a, c, d, pad])]).reshape(-1, 4)
+    else:
+        cells = np.column_stack([a, b, c, d])
+    edges = lambda nodes: np.column_stack([nodes[:-1], nodes[1:]])
+    curves = {"bottom": edges(node[0]), "top": edges(node[-1]),
+              "left": edges(node[:, 0]), "right": edges(node[:, -1])}
+    return PlaneMesh(coordinates, cells, np.zeros(cells.shape[0], dtype=int), ("domain",),
+                     curves)
