@@ -76,6 +76,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/parallel_solvers.py
 	$(PY) bench/soil_cost.py
 	$(PY) bench/friction_cost.py 64 7
+	$(PY) bench/plane_solvers.py
 	$(PY) bench/blas_threads.py
 	$(PY) bench/sweep_speed.py
 	$(PY) bench/pile_speed.py
