@@ -65,16 +65,6 @@ def sparse_slab_matrix(M, C, K, dt, w=np.eye(2), v=np.eye(2)):
     return A.tocsr()
 
 
-def sparse_rhs(M, K, dt, u, v):
-    """r = R (u^n, v^{n-}) for sparse M, K (interleaved as sparse_slab_matrix):
-    r^1 = M v - dt/2 K u, r^2 = -dt/2 K u."""
-    ku = K @ u
-    r = np.empty(2 * u.size)
-    r[0::2] = M @ v - 0.5 * dt * ku
-    r[1::2] = -0.5 * dt * ku
-    return r
-
-
 def rhs_operator(ops, dt, w=np.eye(2)):
     """Blocks of the operator R with r = R (u^n, v^{n-}) (or of W R)."""
     return node_blocks(ops, m=w @ RM, k=dt * w @ RK)

@@ -1,46 +1,85 @@
 """Slabs of a plane-strain model in the plain algebra of formulation.md:
 A x = R (u^n, v^{n-}) with A = HM (x) M + dt HC (x) C + dt^2 HK (x) K
 (vstpetsc.slab.sparse_slab_matrix: the 1-D time algebra, any geometry),
-factored once by PETSc's LU; held dofs keep zero velocity (identity rows).
+factored once; held dofs keep zero velocity (identity rows).
 
-The first 2-D solver: what the mesh, the element matrices and the time
-algebra give together, checked against the semi-discrete solution
-(tests/test_plane_time.py).  The running right-hand side, loads,
-boundaries and the time loop of the 1-D room come next."""
+On one rank the spatial matrices are whole CSR; on several each rank
+gives the CSR of the rows it owns (global columns; its dofs from
+``first``), vstpetsc.plane.distributed.  The linear solver: options
+prefix ``vst_plane_``; by default PETSc's LU (nested dissection) on one
+rank and MUMPS's on several (bench/plane_solvers.py measures the
+choices).  The running right-hand side, loads, and the time loop of the
+1-D room come next."""
 
 import numpy as np
 import scipy.sparse as sp
+from petsc4py import PETSc
 
 from vstpetsc import slab
-from vstpetsc.plane.assembly import petsc_matrix
+
+PREFIX = "vst_plane_"
+
+
+def _held_rows(A, held, first):
+    """A (CSR, owned rows) with the held spatial dofs' rows made identities."""
+    rows = (2 * (np.asarray(held, dtype=int) - first)[:, None] + np.arange(2)).ravel()
+    A = A.tolil()
+    A[rows, :] = 0.0
+    A[rows, 2 * first + rows] = 1.0
+    return sp.csr_matrix(A), rows
+
+
+def _petsc(csr, comm):
+    csr = csr.tocsr()
+    csr.sort_indices()
+    n, N = csr.shape
+    return PETSc.Mat().createAIJ(((n, N), (n, N)), comm=comm, csr=(
+        csr.indptr.astype(PETSc.IntType), csr.indices.astype(PETSc.IntType), csr.data))
 
 
 class PlaneSlabs:
-    """Slabs of dt for the spatial matrices M, C (or None), K (CSR, 2 dofs a
-    node); ``held`` the spatial dofs whose velocity is zero."""
+    """Slabs of dt for the spatial matrices M, C (or None), K (CSR, 2
+    dofs a node: whole, or a rank's owned rows from spatial dof
+    ``first``); ``held`` the (global) spatial dofs whose velocity is 0."""
 
-    def __init__(self, M, C, K, dt, held=()):
-        from petsc4py import PETSc
-
-        self.M, self.K, self.dt = M, K, dt
-        self.held = np.asarray(held, dtype=int)
-        rows = (2 * self.held[:, None] + np.arange(2)).ravel()
-        A = slab.sparse_slab_matrix(M, C, K, dt).tolil()
-        A[rows, :] = 0.0
-        A[rows, rows] = 1.0
-        self.rows = rows
-        self.A = petsc_matrix(sp.csr_matrix(A))
-        self.ksp = PETSc.KSP().create(comm=PETSc.COMM_SELF)
-        self.ksp.setOperators(self.A)
-        self.ksp.setType("preonly")
-        self.ksp.getPC().setType("lu")
-        self.ksp.setUp()
+    def __init__(self, M, C, K, dt, held=(), comm=None, first=0):
+        comm = comm or PETSc.COMM_SELF
+        self.dt = dt
+        A, self.rows = _held_rows(slab.sparse_slab_matrix(M, C, K, dt), held, first)
+        self.A = _petsc(A, comm)
+        self.M, self.K = _petsc(M, comm), _petsc(K, comm)
+        self.ksp = self._solver(comm)
         self.x, self.b = self.A.createVecs()
+        self.mv, self.ku = self.M.createVecs()
+        self.v_vec, self.u_vec = self.M.createVecs()
+
+    def _solver(self, comm):
+        opts = PETSc.Options()
+        ksp = PETSc.KSP().create(comm=comm)
+        ksp.setOptionsPrefix(PREFIX)
+        ksp.setOperators(self.A)
+        ksp.setType("preonly")
+        pc = ksp.getPC()
+        pc.setType("lu")
+        if comm.getSize() > 1:
+            pc.setFactorSolverType("mumps")
+        elif not opts.hasName(PREFIX + "pc_factor_mat_ordering_type"):
+            pc.setFactorOrdering("nd")
+        ksp.setFromOptions()
+        ksp.setUp()
+        return ksp
 
     def step(self, u, v, forces=None):
-        """(u^{n+1}, v^{(n+1)-}) from (u^n, v^{n-}); ``forces`` the slab's
-        nodal force integrals (2 per dof, interleaved), if any."""
-        r = slab.sparse_rhs(self.M, self.K, self.dt, u, v)
+        """(u^{n+1}, v^{(n+1)-}) from (u^n, v^{n-}), this rank's entries;
+        ``forces`` the slab's nodal force integrals (2 per dof, interleaved)."""
+        self.v_vec.setArray(v)
+        self.u_vec.setArray(u)
+        self.M.mult(self.v_vec, self.mv)
+        self.K.mult(self.u_vec, self.ku)
+        ku = self.ku.getArray()
+        r = np.empty(2 * u.size)
+        r[0::2] = self.mv.getArray() - 0.5 * self.dt * ku
+        r[1::2] = -0.5 * self.dt * ku
         if forces is not None:
             r += forces
         r[self.rows] = 0.0
