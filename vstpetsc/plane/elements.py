@@ -54,17 +54,43 @@ def interleave(m):
     return out
 
 
-def triangle_matrices(xy, D, rho):
-    """(K_e, M_e) of linear triangles with corners xy (n, 3, 2)."""
+def triangle_gradients(xy, area=False):
+    """(n, 3, 2) the shape functions' gradients of linear triangles with
+    corners xy (n, 3, 2) (and their areas when ``area``)."""
     x, y = xy[..., 0], xy[..., 1]
     b = np.roll(y, -1, axis=1) - np.roll(y, -2, axis=1)         # y_j - y_k
     c = np.roll(x, -2, axis=1) - np.roll(x, -1, axis=1)         # x_k - x_j
-    area = 0.5 * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
-    dN = np.stack([b, c], axis=-1) / (2.0 * area)[:, None, None]
+    a = 0.5 * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
+    dN = np.stack([b, c], axis=-1) / (2.0 * a)[:, None, None]
+    return (dN, a) if area else dN
+
+
+def triangle_matrices(xy, D, rho):
+    """(K_e, M_e) of linear triangles with corners xy (n, 3, 2)."""
+    dN, area = triangle_gradients(xy, area=True)
     B = strain_operator(dN)
     K = area[:, None, None] * (B.transpose(0, 2, 1) @ (D @ B))
     m = (rho * area / 12.0)[:, None, None] * (np.ones((3, 3)) + np.eye(3))
     return K, interleave(m)
+
+
+def quadrilateral_gradients(xy, xi, eta):
+    """(N (4,), dN (n, 4, 2), det J (n,)) of bilinear quadrilaterals with
+    corners xy (n, 4, 2) at the reference point (xi, eta)."""
+    N = 0.25 * (1.0 + CORNERS[:, 0] * xi) * (1.0 + CORNERS[:, 1] * eta)
+    dN_ref = 0.25 * np.column_stack([CORNERS[:, 0] * (1.0 + CORNERS[:, 1] * eta),
+                                     CORNERS[:, 1] * (1.0 + CORNERS[:, 0] * xi)])
+    J = np.einsum("ka,nkb->nab", dN_ref, xy)               # d(x, y) / d(xi, eta)
+    det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+    # J^{-1} written out (a batched LAPACK call costs ten times more)
+    inv = np.stack([np.stack([J[:, 1, 1], -J[:, 0, 1]], -1),
+                    np.stack([-J[:, 1, 0], J[:, 0, 0]], -1)], -2) / det[:, None, None]
+    return N, np.einsum("ka,nba->nkb", dN_ref, inv), det
+
+
+def centre_gradients(xy):
+    """A quadrilateral's gradients at its reference centre."""
+    return quadrilateral_gradients(xy, 0.0, 0.0)[1]
 
 
 def quadrilateral_matrices(xy, D, rho):
@@ -73,15 +99,7 @@ def quadrilateral_matrices(xy, D, rho):
     n = xy.shape[0]
     K, m = np.zeros((n, 8, 8)), np.zeros((n, 4, 4))
     for xi, eta in POINTS:
-        N = 0.25 * (1.0 + CORNERS[:, 0] * xi) * (1.0 + CORNERS[:, 1] * eta)
-        dN_ref = 0.25 * np.column_stack([CORNERS[:, 0] * (1.0 + CORNERS[:, 1] * eta),
-                                         CORNERS[:, 1] * (1.0 + CORNERS[:, 0] * xi)])
-        J = np.einsum("ka,nkb->nab", dN_ref, xy)               # d(x, y) / d(xi, eta)
-        det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
-        # J^{-1} written out (a batched LAPACK call costs ten times more)
-        inv = np.stack([np.stack([J[:, 1, 1], -J[:, 0, 1]], -1),
-                        np.stack([-J[:, 1, 0], J[:, 0, 0]], -1)], -2) / det[:, None, None]
-        dN = np.einsum("ka,nba->nkb", dN_ref, inv)
+        N, dN, det = quadrilateral_gradients(xy, xi, eta)
         B = strain_operator(dN)
         K += det[:, None, None] * (B.transpose(0, 2, 1) @ (D @ B))
         m += (rho * det)[:, None, None] * np.outer(N, N)[None]
