@@ -74,7 +74,8 @@ def dam_mesh(height, crest, upstream, downstream, foundation_depth, foundation_w
     ys = divisions(0.0, H, h)
     for y in ys[1:]:
         left, right = xa + upstream * y, xb - downstream * y
-        x = divisions(left, right, h)
+        # a crest of width 0 (a triangular dam) is one node
+        x = divisions(left, right, h) if right - left > 1e-9 * h else np.array([left])
         rows.append(count + np.arange(x.size))
         points.append(np.column_stack([x, np.full(x.size, y)]))
         count += x.size

@@ -52,6 +52,22 @@ class PlaneMesh:
         """The sorted nodes of a named curve."""
         return np.unique(self.curves[name])
 
+    def region_mesh(self, name):
+        """The mesh of one region's cells alone (nodes renumbered in their
+        order; curves keep the edges whose nodes both remain)."""
+        cells = self.cells[self.region == self.region_names.index(name)]
+        used = np.unique(cells[cells >= 0])
+        new = -np.ones(self.nnodes, dtype=int)
+        new[used] = np.arange(used.size)
+        renumbered = np.where(cells >= 0, new[np.maximum(cells, 0)], -1)
+        curves = {}
+        for curve, edges in self.curves.items():
+            kept = edges[(new[edges] >= 0).all(axis=1)]
+            if kept.size:
+                curves[curve] = new[kept]
+        return PlaneMesh(self.coordinates[used], renumbered,
+                         np.zeros(len(cells), dtype=int), (name,), curves)
+
     def areas(self):
         """(ne,) cell areas (shoelace; positive for counter-clockwise cells)."""
         n = np.where(self.cells < 0, self.cells[:, [2]], self.cells)   # a triangle repeats a node
