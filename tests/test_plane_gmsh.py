@@ -1,5 +1,5 @@
 """Gmsh meshes through PETSc's DMPlex (vstpetsc.plane.dmplex): a file
-written here in Gmsh's 2.2 ASCII format from a mesh of our own generator
+written here in Gmsh's 2.2 ASCII format (and in 4.1, read alike) from a mesh of our own generator
 (mixed: quadrilaterals below, triangles above, two physical surfaces, two
 physical curves, some cells written clockwise) reads back as the same
 geometry: its cells' areas, regions and curves, and the same assembled
@@ -49,6 +49,42 @@ def write_gmsh22(path, m, clockwise=()):
     return path
 
 
+def write_gmsh41(path, m):
+    """``m`` as a Gmsh 4.1 ASCII file: an entity per physical curve and per
+    region, every node classified on the first surface."""
+    curves, regions = list(m.curves), list(m.region_names)
+    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$PhysicalNames",
+             str(len(curves) + len(regions))]
+    lines += [f'1 {i + 1} "{n}"' for i, n in enumerate(curves)]
+    lines += [f'2 {len(curves) + i + 1} "{n}"' for i, n in enumerate(regions)]
+    lines += ["$EndPhysicalNames", "$Entities", f"0 {len(curves)} {len(regions)} 0"]
+    box = "0 0 0 0 0 0"
+    lines += [f"{i + 1} {box} 1 {i + 1} 0" for i in range(len(curves))]
+    lines += [f"{i + 1} {box} 1 {len(curves) + i + 1} 0" for i in range(len(regions))]
+    lines += ["$EndEntities", "$Nodes", f"1 {m.nnodes} 1 {m.nnodes}", f"2 1 0 {m.nnodes}"]
+    lines += [str(i + 1) for i in range(m.nnodes)]
+    lines += [f"{x!r} {y!r} 0" for x, y in m.coordinates]
+    lines += ["$EndNodes"]
+    blocks = [(1, i + 1, 1, [e for e in m.curves[c]]) for i, c in enumerate(curves)]
+    for r in range(len(regions)):
+        for kind, corners in ((2, 3), (3, 4)):
+            cells = [c[:corners] for c, g in zip(m.cells, m.region)
+                     if g == r and (c >= 0).sum() == corners]
+            if cells:
+                blocks.append((2, r + 1, kind, cells))
+    total = sum(len(b[3]) for b in blocks)
+    lines += ["$Elements", f"{len(blocks)} {total} 1 {total}"]
+    tag = 0
+    for dim, entity, kind, rows in blocks:
+        lines.append(f"{dim} {entity} {kind} {len(rows)}")
+        for row in rows:
+            tag += 1
+            lines.append(f"{tag} " + " ".join(str(n + 1) for n in row))
+    lines += ["$EndElements"]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
 def canonical(m):
     """Cells as sorted tuples of node sets with their region, in sorted
     order (a reader may renumber cells and rotate their corners)."""
@@ -69,6 +105,16 @@ def test_a_mixed_mesh_reads_back_as_written(tmp_path):
     theirs = [A.toarray() for A in assembly.matrices(read, LAM, MU, RHO, "consistent")]
     for a, b in zip(mine, theirs):
         assert np.allclose(a, b, rtol=0, atol=1e-13 * np.abs(a).max())
+
+
+def test_gmsh_41_reads_as_22(tmp_path):
+    m = mixed()
+    old = read_gmsh(write_gmsh22(tmp_path / "m22.msh", m))
+    new = read_gmsh(write_gmsh41(tmp_path / "m41.msh", m))
+    assert np.array_equal(old.coordinates, new.coordinates)
+    assert canonical(old) == canonical(new)
+    assert {k: sorted(map(sorted, v.tolist())) for k, v in old.curves.items()} == \
+        {k: sorted(map(sorted, v.tolist())) for k, v in new.curves.items()}
 
 
 @pytest.mark.parametrize("triangles", [False, True], ids=["quadrilaterals", "triangles"])
