@@ -10,9 +10,9 @@ and the rank's rows go to PETSc's parallel AIJ in one CSR call (no loop
 over cells, no communication in the assembly).  The unknowns are
 (v_x, v_y) of each vertex in DMPlex's global numbering.
 
-Cells of one kind (createFromCellList takes one corner count): the
-generated rectangle; a mixed Gmsh file comes through DMPlex's own reader
-(next step)."""
+The DMPlex is built from the mesh's cells on rank 0 (any mix of
+triangles and quadrilaterals), its regions and curves as labels that
+migrate with the cells."""
 
 from dataclasses import dataclass
 
@@ -28,29 +28,80 @@ from vstpetsc.plane.mesh import PlaneMesh
 @dataclass
 class LocalMesh:
     """What a rank holds: its cells (those it owns first, then the
-    overlap), their vertices' coordinates, each local vertex's global
-    number, the rank's range of owned global vertices."""
+    overlap; ``owned_cells`` marks its own), their vertices' coordinates,
+    each local vertex's global number, the rank's range of owned global
+    vertices."""
 
     mesh: PlaneMesh
     global_vertex: np.ndarray
     owned: np.ndarray
+    owned_cells: np.ndarray
     start: int
     stop: int
     size: int
     comm: object
 
 
-def distribute(mesh, comm, overlap=1):
+def plex(mesh, comm, curve_names):
+    """The DMPlex of ``mesh`` (given on rank 0; the other ranks start
+    empty), interpolated, with its coordinates, a label "region" on the
+    cells and a label per curve on its edges, so that both move with
+    the cells when DMPlex distributes them.  Any mix of triangles and
+    quadrilaterals (cones set cell by cell: set-up only)."""
+    rank0 = comm.getRank() == 0
+    nc, nv = (mesh.ncells, mesh.nnodes) if rank0 else (0, 0)
+    dm = PETSc.DMPlex().create(comm=comm)
+    dm.setDimension(2)
+    dm.setChart(0, nc + nv)
+    corners = (mesh.cells >= 0).sum(axis=1) if rank0 else np.zeros(0, dtype=int)
+    for c in range(nc):
+        dm.setConeSize(c, int(corners[c]))
+    dm.setUp()
+    cones = (mesh.cells + nc).astype(PETSc.IntType) if rank0 else None
+    for c in range(nc):
+        dm.setCone(c, cones[c, :corners[c]])
+    dm.symmetrize()
+    dm.stratify()
+    dm.interpolate()
+    _coordinates(dm, mesh.coordinates if rank0 else np.zeros((0, 2)), comm)
+    dm.createLabel("region")
+    for c in range(nc):
+        dm.setLabelValue("region", c, int(mesh.region[c]))
+    for name in curve_names:              # (every rank has every label)
+        dm.createLabel(name)
+        for a, b in (mesh.curves[name] + nc if rank0 else ()):
+            dm.setLabelValue(name, int(dm.getJoin([int(a), int(b)])[0]), 1)
+    return dm
+
+
+def _coordinates(dm, xy, comm):
+    """Vertex coordinates (2 per vertex) into the DM."""
+    v0, v1 = dm.getDepthStratum(0)
+    section = PETSc.Section().create(comm=comm)
+    section.setNumFields(1)
+    section.setFieldComponents(0, 2)
+    section.setChart(v0, v1)
+    for v in range(v0, v1):
+        section.setDof(v, 2)
+        section.setFieldDof(v, 0, 2)
+    section.setUp()
+    dm.setCoordinateDim(2)
+    dm.getCoordinateDM().setSection(section)
+    vec = PETSc.Vec().createWithArray(np.ascontiguousarray(xy, dtype=float).ravel(),
+                                      comm=PETSc.COMM_SELF)
+    vec.setBlockSize(2)
+    dm.setCoordinatesLocal(vec)
+
+
+def distribute(mesh, comm, overlap=1, names=None):
     """The LocalMesh of each rank from ``mesh`` (read on rank 0; ignored
-    elsewhere) with DMPlex's partition."""
+    elsewhere) with DMPlex's partition; ``names``: the regions' and the
+    curves' names (every rank's; default rank 0's mesh's, broadcast)."""
     rank = comm.getRank()
-    corners = 4 if mesh.quadrilaterals.size else 3
-    if mesh.triangles.size and mesh.quadrilaterals.size:
-        raise ValueError("a mixed mesh cannot yet be distributed from cell lists")
-    cells = mesh.cells[:, :corners].astype(PETSc.IntType) if rank == 0 else \
-        np.zeros((0, corners), dtype=PETSc.IntType)
-    coords = mesh.coordinates if rank == 0 else np.zeros((0, 2))
-    dm = PETSc.DMPlex().createFromCellList(2, cells, coords, interpolate=True, comm=comm)
+    if names is None:
+        names = comm.tompi4py().bcast(
+            (mesh.region_names, tuple(mesh.curves)) if rank == 0 else None, root=0)
+    dm = plex(mesh, comm, names[1])
     if comm.getSize() > 1:
         dm.distribute(overlap=overlap)
     local, _ = _cells(dm)
@@ -60,8 +111,33 @@ def distribute(mesh, comm, overlap=1):
     global_vertex = np.where(owned, numbers, -numbers - 1)
     counts = comm.tompi4py().allgather(int(owned.sum()))
     start = int(sum(counts[:rank]))
-    lm = PlaneMesh(np.ascontiguousarray(xy), local, np.zeros(local.shape[0], dtype=int))
-    return LocalMesh(lm, global_vertex, owned, start, start + counts[rank], sum(counts), comm)
+    region, curves = _local_groups(dm, local.shape[0], len(names[0]), names[1])
+    lm = PlaneMesh(np.ascontiguousarray(xy), local, region, names[0], curves)
+    # a rank's ghost points are the leaves of DMPlex's point SF
+    c0, c1 = dm.getHeightStratum(0)
+    owned_cells = np.ones(c1 - c0, dtype=bool)
+    leaves = dm.getPointSF().getGraph()[1] if comm.getSize() > 1 else None
+    if leaves is not None and len(leaves):
+        leaves = np.asarray(leaves)
+        owned_cells[leaves[(leaves >= c0) & (leaves < c1)] - c0] = False
+    return LocalMesh(lm, global_vertex, owned, owned_cells, start, start + counts[rank],
+                     sum(counts), comm)
+
+
+def _local_groups(dm, ncells, nregions, curve_names):
+    """(each local cell's region, {curve: its local edges (m, 2)})."""
+    region = np.zeros(ncells, dtype=int)
+    # (a stratum with no point on this rank has no index set: asked first)
+    for r in range(nregions):
+        if dm.getStratumSize("region", r):
+            region[dm.getStratumIS("region", r).getIndices()] = r
+    v0, _ = dm.getDepthStratum(0)
+    curves = {}
+    for name in curve_names:
+        edges = dm.getStratumIS(name, 1).getIndices() if dm.getStratumSize(name, 1) else []
+        if len(edges):
+            curves[name] = np.array([dm.getCone(e) for e in edges], dtype=np.int64) - v0
+    return region, curves
 
 
 def owned_rows(local, blocks):
