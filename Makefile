@@ -77,6 +77,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/soil_cost.py
 	$(PY) bench/friction_cost.py 64 7
 	$(PY) bench/plane_solvers.py
+	$(PY) bench/plane_parallel.py
 	$(PY) bench/blas_threads.py
 	$(PY) bench/sweep_speed.py
 	$(PY) bench/pile_speed.py

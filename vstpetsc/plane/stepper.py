@@ -63,9 +63,12 @@ class PlaneSlabs:
         pc.setType("lu")
         if comm.getSize() > 1:
             pc.setFactorSolverType("mumps")
-        elif not opts.hasName(PREFIX + "pc_factor_mat_ordering_type"):
-            pc.setFactorOrdering("nd")
         ksp.setFromOptions()
+        # PETSc's own LU in nested dissection unless told otherwise (MUMPS
+        # orders by itself)
+        if pc.getType() == "lu" and pc.getFactorSolverType() == "petsc" and \
+                not opts.hasName(PREFIX + "pc_factor_mat_ordering_type"):
+            pc.setFactorOrdering("nd")
         ksp.setUp()
         return ksp
 

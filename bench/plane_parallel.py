@@ -1,0 +1,94 @@
+"""Two ranks against one on plane-strain slabs (issue 37's goal: two ranks
+at least 1.6 times faster than one on a 2e5-cell slab loop): a square of
+quadrilaterals distributed by DMPlex (vstpetsc.plane.distributed), the
+slab matrix's solve by GMRES with block Jacobi / ILU(0) (the only
+preconditioner here that distributes) and by MUMPS's LU; per slab: the
+right-hand side's products, the solve, the update.  Run under mpirun by
+the parent (``main``), which prints one table; min / median of the
+slabs' times after the first few.
+
+    .venv/bin/python bench/plane_parallel.py [CELLS]
+"""
+
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SLABS = 12
+SOLVERS = {"GMRES + bjacobi/ILU(0)": ["-vst_plane_ksp_type", "gmres", "-vst_plane_pc_type",
+                                       "bjacobi", "-vst_plane_sub_pc_type", "ilu",
+                                       "-vst_plane_ksp_rtol", "1e-12"],
+           "LU mumps": ["-vst_plane_pc_type", "lu", "-vst_plane_pc_factor_mat_solver_type",
+                        "mumps"]}
+
+
+def child(cells, options):
+    import numpy as np
+    from petsc4py import PETSc
+
+    from vstpetsc.plane import elements, mesh as plane_mesh
+    from vstpetsc.plane.distributed import distribute, owned_rows
+    from vstpetsc.plane import assembly
+    from vstpetsc.plane.stepper import PlaneSlabs
+
+    comm = PETSc.COMM_WORLD
+    n = int(round(np.sqrt(cells)))
+    m = plane_mesh.rectangle((0.0, float(n)), (0.0, float(n)), n, n)
+    start = time.perf_counter()
+    local = distribute(m, comm)
+    lam, mu = elements.lame(2.0e8, 0.3)
+    parts = assembly.element_matrices(local.mesh, lam, mu, 2000.0)
+    K = owned_rows(local, [(c, Ke) for c, Ke, _ in parts.values()])
+    M = owned_rows(local, [(c, elements.MASSES["averaged"](Me)) for c, _, Me in parts.values()])
+    dt = 1.0 / np.sqrt((lam + 2 * mu) / 2000.0)
+    slabs = PlaneSlabs(M, None, K, dt, comm=comm, first=2 * local.start)
+    setup = time.perf_counter() - start
+    u = np.random.default_rng(comm.getRank()).normal(size=2 * (local.stop - local.start)) * 1e-3
+    v = np.zeros_like(u)
+    times = []
+    for _ in range(SLABS):
+        comm.barrier()
+        t = time.perf_counter()
+        u, v = slabs.step(u, v)
+        comm.barrier()
+        times.append(time.perf_counter() - t)
+    if comm.getRank() == 0:
+        print(json.dumps({"setup": setup, "slabs": times[2:],
+                          "its": slabs.ksp.getIterationNumber()}))
+
+
+def main(cells=200000):
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    print(f"| {cells} cells | ranks | set-up s | ms a slab, min | median | iterations | "
+          "speed-up (min / median) |")
+    print("|---|---|---|---|---|---|---|")
+    for name, options in SOLVERS.items():
+        rows = {}
+        for ranks in (1, 2):
+            p = subprocess.run(["mpirun", "-n", str(ranks), sys.executable, __file__, "child",
+                                str(cells), *options], capture_output=True, text=True, env=env)
+            if p.returncode:
+                print(f"| {name} | {ranks} | failed: {p.stderr.strip().splitlines()[-1:]} |")
+                continue
+            rows[ranks] = json.loads(p.stdout.strip().splitlines()[-1])
+        for ranks, r in rows.items():
+            lo, med = min(r["slabs"]), statistics.median(r["slabs"])
+            base = rows.get(1)
+            speed = "" if ranks == 1 or base is None else \
+                f"{min(base['slabs']) / lo:.2f} / {statistics.median(base['slabs']) / med:.2f}"
+            print(f"| {name} | {ranks} | {r['setup']:.2f} | {1e3 * lo:.1f} | {1e3 * med:.1f} | "
+                  f"{r['its']} | {speed} |", flush=True)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) > 1 and sys.argv[1] == "child":
+        from petsc4py import init
+        init(sys.argv[3:])
+        child(int(sys.argv[2]), sys.argv[3:])
+    else:
+        main(*(int(a) for a in sys.argv[1:2]))
