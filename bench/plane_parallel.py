@@ -22,6 +22,10 @@ SLABS = 12
 SOLVERS = {"GMRES + bjacobi/ILU(0)": ["-vst_plane_ksp_type", "gmres", "-vst_plane_pc_type",
                                        "bjacobi", "-vst_plane_sub_pc_type", "ilu",
                                        "-vst_plane_ksp_rtol", "1e-12"],
+           "GMRES + ASM(2)/ILU(0)": ["-vst_plane_ksp_type", "gmres", "-vst_plane_pc_type", "asm",
+                                     "-vst_plane_pc_asm_overlap", "2",
+                                     "-vst_plane_sub_pc_type", "ilu",
+                                     "-vst_plane_ksp_rtol", "1e-12"],
            "LU mumps": ["-vst_plane_pc_type", "lu", "-vst_plane_pc_factor_mat_solver_type",
                         "mumps"]}
 
