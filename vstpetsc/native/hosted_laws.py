@@ -2,29 +2,34 @@
 Newton (hosted_laws.h, called by soil_newton.c): the arrays of the laws'
 slab state it reads, and, after a slab, the laws' Python objects set from
 its last evaluation as their own ``force`` would have left them (the same
-operations: pair.h, coulomb.h), so that finishing the slab, its work and
-its events are the laws' own code."""
+operations: law_forces.h, shared with the laws' own compiled Newton), so
+that finishing the slab, its work and its events are the laws' own code."""
 
 import ctypes
 
 import numpy as np
 
-from vstpetsc.laws.coulomb import FrictionSlab
 from vstpetsc.laws.friction import CoulombFriction
 from vstpetsc.laws.penalty import PenaltyContact
-from vstpetsc.native import bind
+from vstpetsc.native import Frictions, bind
 
 _P = ctypes.c_void_p
+
+
+class _LawForces(ctypes.Structure):
+    """The C struct LawForces of law_forces.h, field for field."""
+
+    _fields_ = [("laws", ctypes.c_int), ("dt", ctypes.c_double)] + \
+        [(name, _P) for name in ("gn", "w", "power", "out", "integrals", "hit", "kind",
+                                 "partner", "friction", "stretch", "fslab")] + \
+        [("unsettled", ctypes.c_int)]
 
 
 class _Hosted(ctypes.Structure):
     """The C struct HostedLaws of hosted_laws.h, field for field."""
 
-    _fields_ = [("laws", ctypes.c_int), ("k", ctypes.c_int), ("dt", ctypes.c_double)] + \
-        [(name, _P) for name in ("enode", "R0", "U", "kind", "normal_of", "power", "w", "mu",
-                                 "gn", "wall", "zE", "y", "f", "out", "hit", "G", "normal",
-                                 "pieces", "count", "slab", "rows", "jac", "kept")] + \
-        [("failed", ctypes.c_int)]
+    _fields_ = [("f", _LawForces), ("k", ctypes.c_int)] + \
+        [(name, _P) for name in ("enode", "R0", "U", "zE", "y", "fy", "rows", "jac", "kept")]
 
 
 def takes(laws):
@@ -39,60 +44,46 @@ class CompiledLaws:
     def __init__(self, lib, hosted):
         laws = hosted.laws.laws
         self.hosted, self.laws = hosted, laws
-        self.pairs = [j for j, law in enumerate(laws) if type(law) is PenaltyContact]
-        self.frictions = [j for j, law in enumerate(laws) if type(law) is CoulombFriction]
+        self.pairs = [(j, law) for j, law in enumerate(laws) if type(law) is PenaltyContact]
+        self.frictions = Frictions(laws)
         L, k = len(laws), hosted.laws.size
-        index = {id(law): j for j, law in enumerate(laws)}
-        ints = lambda values: np.ascontiguousarray(values, dtype=np.intc)
-        floats = lambda values: np.ascontiguousarray(values, dtype=np.float64)
-        pair = lambda law: type(law) is PenaltyContact
+        self.gn = np.zeros(L)
+        self.hit = np.zeros(L, dtype=np.intc)
+        self.integrals = np.zeros((L, 6))
         self.keep = {
+            "gn": self.gn, "hit": self.hit, "integrals": self.integrals, "out": np.zeros((L, 6)),
+            # a friction law's entries unused (its pair's are read)
+            "w": np.array([getattr(law, "penalty", 0.0) for law in laws], dtype=np.float64),
+            "power": np.array([getattr(law, "power", 0) for law in laws], dtype=np.intc),
+            **dict(zip(("kind", "partner", "friction", "stretch", "fslab"),
+                       self.frictions.arrays())),
             "enode": np.ascontiguousarray(hosted.laws.nodes, dtype=np.int64),
-            "R0": floats(hosted.R0), "U": floats(hosted.U),
-            "kind": ints([0 if pair(law) else 1 for law in laws]),
-            "normal_of": ints([0 if pair(law) else index[id(law.pair)] for law in laws]),
-            "power": ints([pair(law) and law.power for law in laws]),
-            "w": floats([law.penalty if pair(law) else law.stiffness for law in laws]),
-            "mu": floats([0.0 if pair(law) else law.mu for law in laws]),
-            "gn": np.zeros(L), "wall": np.zeros((L, 2)), "zE": np.zeros(k),
-            "y": np.zeros(2 * L), "f": hosted.laws.f, "out": np.zeros((L, 6)),
-            "hit": np.zeros(L, dtype=np.intc), "G": np.zeros((L, 6)),
-            "normal": np.zeros((L, 3)), "pieces": np.zeros((L, 6)),
-            "count": np.zeros(L, dtype=np.intc), "slab": np.zeros((L, 10)),
+            "R0": np.ascontiguousarray(hosted.R0), "U": np.ascontiguousarray(hosted.U),
+            "zE": np.zeros(k), "y": np.zeros(2 * L), "fy": hosted.laws.f,
             "rows": np.zeros(k), "jac": hosted.jac, "kept": hosted.kept}
-        self.s = bind(_Hosted(laws=L, k=k, dt=hosted.dt), self.keep)
+        self.s = bind(_Hosted(k=k), self.keep)
+        self.s.f = bind(_LawForces(laws=L, dt=hosted.dt), self.keep)
 
     def prepare(self):
         """The laws' slab state (after their start_slab and start_time):
         the pairs' gaps, the frictions' stretches and walls."""
-        gn, wall = self.keep["gn"], self.keep["wall"]
-        for j in self.pairs:
-            gn[j] = self.laws[j].gn
-        for j in self.frictions:
-            law = self.laws[j]
-            gn[j] = law.stretch
-            c, (v1, v2) = law.wall_sign, law.wall_v
-            wall[j] = c * v1, c * v2
-        self.s.failed = 0
+        for j, law in self.pairs:
+            self.gn[j] = law.gn
+        self.frictions.load()
+        self.s.f.unsettled = 0
 
     def finish(self):
         """After the Newton: each law as its last ``force`` left it, the
         HostedLaws' coordinates; whether any law acts."""
-        keep = self.keep
-        hit = keep["hit"].tolist()
-        y = keep["y"]
+        hit = self.hit.tolist()
+        y = self.keep["y"]
         self.hosted.y = y.copy()
-        for j in self.pairs:
-            law = self.laws[j]
-            law.pieces = None
+        for j, law in self.pairs:
+            law.pieces = None           # (finish_slab finds the pair's events)
             if hit[j]:
-                law.last = tuple(keep["G"][j].tolist())
+                law.last = tuple(self.integrals[j].tolist())
                 law.rates = (float(y[2 * j]), float(y[2 * j + 1]))
-                if law.power:       # (a seed pair's events: finish_slab finds them)
-                    law.pieces = list(zip(*[iter(keep["pieces"][j, :2 * keep["count"][j]]
-                                                 .tolist())] * 2))
             else:
                 law.last = None
-        for j in self.frictions:
-            self.laws[j].last = FrictionSlab(*keep["slab"][j].tolist()) if hit[j] else None
+        self.frictions.finish(hit)
         return any(hit)

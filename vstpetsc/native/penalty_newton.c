@@ -16,12 +16,9 @@
 #include <string.h>
 
 #include "gap.h"
-#include "coulomb.h"
-#include "pair.h"
+#include "law_forces.h"
 
 #define MAX_ROWS 64            /* 2 x the laws the kernel takes (32) */
-#define FRICTION_INPUTS 5      /* a friction law's mu, k_t, wall sign, wall v^1, v^2 */
-#define FRICTION_OUTPUTS 10    /* a FrictionSlab's numbers */
 
 typedef struct {
     int laws;                  /* L pairs: 2L coordinates y */
@@ -50,49 +47,12 @@ typedef struct {
     int unsettled;             /* out: a friction law's switches did not settle */
 } Newton;
 
-/* CoulombFriction.force: friction law j at y, reading its pair's normal
- * force of this evaluation (PenaltyContact.normal_force): whether it acts
- * (its pair does) and then its terms in out (6) and its FrictionSlab */
-static int friction_force(Newton *c, int j, const double *y, double *out)
+/* the laws' arrays of the Newton, as law_forces() reads them */
+static LawForces forces_of(const Newton *c)
 {
-    int p = c->partner[j], count = 1;
-    double normal[3], pieces[6] = {0.0, 1.0}, a[3];
-    if (!c->hit[p])
-        return 0;
-    if (c->power[p]) {         /* k max(0, -g) on the gap's active pieces */
-        gap_coefficients(c->gn[p], y[2 * p], y[2 * p + 1], c->dt, a);
-        penalty_normal(a, c->w[p], normal);
-        count = active_intervals(a, pieces);
-    } else {                   /* the seed's slab mean J / dt on the whole slab */
-        const double *G = c->integrals + 6 * p;
-        normal[0] = -c->w[p] * (G[0] + G[1]) / c->dt;
-        normal[1] = normal[2] = 0.0;
-    }
-    const double *in = c->friction + FRICTION_INPUTS * j;
-    double wall = in[2];       /* the wall as a node of the pair: +1, -1 or 0 */
-    FrictionSlab slab;
-    if (coulomb_friction_integrals(c->stretch[j], -(y[2 * j] + wall * in[3]),
-                                   -(y[2 * j + 1] + wall * in[4]), c->dt, in[1], in[0],
-                                   normal, pieces, count, &slab)) {
-        c->unsettled = 1;
-        return 0;
-    }
-    memcpy(c->fslab + FRICTION_OUTPUTS * j, &slab, sizeof slab);
-    out[0] = slab.f1; out[1] = slab.f2;
-    out[2] = -slab.d11; out[3] = -slab.d12; out[4] = -slab.d21; out[5] = -slab.d22;
-    return 1;
-}
-
-/* penalty pair j at y (PenaltyContact.force): whether it acts, and then its
- * integrals and terms */
-static int pair_force(Newton *c, int j, const double *y)
-{
-    double *G = c->integrals + 6 * j, *o = c->out + 6 * j, w = c->w[j];
-    if (!pair_integrals(c->gn[j], y[2 * j], y[2 * j + 1], c->dt, c->power[j], G))
-        return 0;
-    o[0] = -w * G[0]; o[1] = -w * G[1];
-    o[2] = w * G[2]; o[3] = w * G[3]; o[4] = w * G[4]; o[5] = w * G[5];
-    return 1;
+    LawForces f = {c->laws, c->dt, c->gn, c->w, c->power, c->out, c->integrals, c->hit,
+                   c->kind, c->partner, c->friction, c->stretch, c->fslab, 0};
+    return f;
 }
 
 static int is_friction(const Newton *c, int j)
@@ -105,12 +65,9 @@ static double residual(Newton *c, const double *y, double *r, int *any)
 {
     int n = 2 * c->laws;
     double sf[MAX_ROWS];
-    *any = 0;
-    for (int j = 0; j < c->laws; j++) {
-        c->hit[j] = is_friction(c, j) ? friction_force(c, j, y, c->out + 6 * j)
-            : pair_force(c, j, y);
-        *any |= c->hit[j];
-    }
+    LawForces forces = forces_of(c);
+    *any = law_forces(&forces, y);
+    c->unsettled |= forces.unsettled;
     for (int i = 0; i < n; i++)
         sf[i] = 0.0;
     for (int j = 0; j < c->laws; j++) {

@@ -160,7 +160,7 @@ void vst_soil_newton(SoilNewton *s, const double *b, double *X)
             axnorm = ax, elnorm = element_norm(s);
         double fnorm = norm(s->F, n2);
         s->iterations = it, s->fnorm = fnorm;
-        if (!isfinite(fnorm) || (s->laws && s->laws->failed))
+        if (!isfinite(fnorm) || (s->laws && s->laws->f.unsettled))
             return;
         double target = fmax(s->atol, s->rtol * (bnorm + axnorm + elnorm + rnorm + lnorm));
         if (fnorm <= target) {
