@@ -88,9 +88,10 @@ class HostedLaws:
         return self.jac.reshape(n, 2, n, 2).transpose(0, 2, 1, 3)[i, j]
 
     def restore_blocks(self, kept):
-        """The blocks the factors held when the run was saved."""
+        """The blocks the factors held when the run was saved (jac and
+        kept both, as at that refresh)."""
         self.jac[...] = kept.reshape(self.jac.shape)
-        return self.blocks()
+        self.kept[...] = self.jac
 
     def compile(self, lib):
         """The laws' evaluation in the compiled Newton (its struct)."""

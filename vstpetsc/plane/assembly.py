@@ -31,17 +31,24 @@ def dofs(nodes):
     return (2 * nodes[:, :, None] + np.arange(2)).reshape(nodes.shape[0], -1)
 
 
-def assemble(mesh, blocks):
-    """The (2 nn, 2 nn) CSR sum of element matrices {kind: (cells, Ke)}."""
+def assemble(mesh, blocks, number=None, owned=None, size=None):
+    """The CSR sum of element matrices [(cells, Ke)]: (2 nn, 2 nn); or, on
+    one rank of several, with ``number`` each local node's global number,
+    the rows of the global nodes ``owned`` = (first, stop) in global
+    columns, (2 owned, 2 size)."""
     rows, cols, vals = [], [], []
+    first, stop = (0, mesh.nnodes) if owned is None else owned
     for cells, Ke in blocks:
-        d = dofs(mesh.cells[cells, :Ke.shape[1] // 2])
-        rows.append(np.repeat(d, d.shape[1], axis=1).ravel())
-        cols.append(np.tile(d, (1, d.shape[1])).ravel())
-        vals.append(Ke.ravel())
-    n = 2 * mesh.nnodes
+        nodes = mesh.cells[cells, :Ke.shape[1] // 2]
+        d = dofs(nodes if number is None else number[nodes])
+        r = np.repeat(d, d.shape[1], axis=1).ravel()
+        keep = (r >= 2 * first) & (r < 2 * stop)
+        rows.append(r[keep] - 2 * first)
+        cols.append(np.tile(d, (1, d.shape[1])).ravel()[keep])
+        vals.append(Ke.ravel()[keep])
+    shape = (2 * (stop - first), 2 * (mesh.nnodes if size is None else size))
     return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                         shape=(n, n))
+                         shape=shape)
 
 
 def matrices(mesh, lam, mu, rho, mass="averaged"):
@@ -54,11 +61,12 @@ def matrices(mesh, lam, mu, rho, mass="averaged"):
 
 
 def petsc_matrix(A, comm=None):
-    """A CSR matrix as PETSc's AIJ (sequential unless ``comm`` says)."""
+    """PETSc's AIJ of a CSR matrix: the whole matrix on one rank, or on
+    ``comm`` the rows a rank owns (global columns; local rows = columns)."""
     from petsc4py import PETSc
 
     A = A.tocsr()
     A.sort_indices()
-    return PETSc.Mat().createAIJ(A.shape, csr=(A.indptr.astype(PETSc.IntType),
-                                               A.indices.astype(PETSc.IntType), A.data),
-                                 comm=comm or PETSc.COMM_SELF)
+    n, N = A.shape
+    return PETSc.Mat().createAIJ(((n, N), (n, N)), comm=comm or PETSc.COMM_SELF, csr=(
+        A.indptr.astype(PETSc.IntType), A.indices.astype(PETSc.IntType), A.data))

@@ -17,7 +17,6 @@ migrate with the cells."""
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 from petsc4py import PETSc
 
 from vstpetsc.plane import assembly
@@ -142,29 +141,9 @@ def _local_groups(dm, ncells, nregions, curve_names):
 
 def owned_rows(local, blocks):
     """The rank's rows (its owned vertices' dofs) of the sum of element
-    matrices {(cells, Ke)}, as CSR (2 owned, 2 size) in global columns."""
-    rows, cols, vals = [], [], []
-    g = local.global_vertex
-    for cells, Ke in blocks:
-        nodes = local.mesh.cells[cells, :Ke.shape[1] // 2]
-        d = assembly.dofs(g[nodes])
-        r = np.repeat(d, d.shape[1], axis=1).ravel()
-        keep = (r >= 2 * local.start) & (r < 2 * local.stop)
-        rows.append(r[keep] - 2 * local.start)
-        cols.append(np.tile(d, (1, d.shape[1])).ravel()[keep])
-        vals.append(Ke.ravel()[keep])
-    n = 2 * (local.stop - local.start)
-    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                         shape=(n, 2 * local.size))
-
-
-def parallel_matrix(local, csr):
-    """PETSc's parallel AIJ of a rank's CSR rows."""
-    csr.sort_indices()
-    n, N = csr.shape[0], csr.shape[1]
-    return PETSc.Mat().createAIJ(((n, N), (n, N)), csr=(
-        csr.indptr.astype(PETSc.IntType), csr.indices.astype(PETSc.IntType), csr.data),
-        comm=local.comm)
+    matrices [(cells, Ke)], as CSR (2 owned, 2 size) in global columns."""
+    return assembly.assemble(local.mesh, blocks, local.global_vertex,
+                             (local.start, local.stop), local.size)
 
 
 def matrices(local, lam, mu, rho, mass="averaged"):
@@ -175,4 +154,4 @@ def matrices(local, lam, mu, rho, mass="averaged"):
     to_mass = elements.MASSES[mass]
     K = owned_rows(local, [(cells, Ke) for cells, Ke, _ in parts.values()])
     M = owned_rows(local, [(cells, to_mass(Me)) for cells, _, Me in parts.values()])
-    return parallel_matrix(local, M), parallel_matrix(local, K)
+    return assembly.petsc_matrix(M, local.comm), assembly.petsc_matrix(K, local.comm)

@@ -16,6 +16,7 @@ import scipy.sparse as sp
 from petsc4py import PETSc
 
 from vstpetsc import slab
+from vstpetsc.plane.assembly import petsc_matrix
 
 PREFIX = "vst_plane_"
 
@@ -29,14 +30,6 @@ def _held_rows(A, held, first):
     return sp.csr_matrix(A), rows
 
 
-def _petsc(csr, comm):
-    csr = csr.tocsr()
-    csr.sort_indices()
-    n, N = csr.shape
-    return PETSc.Mat().createAIJ(((n, N), (n, N)), comm=comm, csr=(
-        csr.indptr.astype(PETSc.IntType), csr.indices.astype(PETSc.IntType), csr.data))
-
-
 class PlaneSlabs:
     """Slabs of dt for the spatial matrices M, C (or None), K (CSR, 2
     dofs a node: whole, or a rank's owned rows from spatial dof
@@ -46,8 +39,8 @@ class PlaneSlabs:
         comm = comm or PETSc.COMM_SELF
         self.dt = dt
         A, self.rows = _held_rows(slab.sparse_slab_matrix(M, C, K, dt), held, first)
-        self.A = _petsc(A, comm)
-        self.M, self.K = _petsc(M, comm), _petsc(K, comm)
+        self.A = petsc_matrix(A, comm)
+        self.M, self.K = petsc_matrix(M, comm), petsc_matrix(K, comm)
         self.ksp = self._solver(comm)
         self.x, self.b = self.A.createVecs()
         self.mv, self.ku = self.M.createVecs()
