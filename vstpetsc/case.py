@@ -20,7 +20,8 @@ from vstpetsc import schema, toml_text
 from vstpetsc.errors import CaseError
 from vstpetsc.schema import Body, BoundarySpec, ContactSpec  # noqa: F401  (re-exported)
 
-ARRAYS = {"body": "name", "contact": None, "bc": None, "soil": None, "gauge": "name"}
+ARRAYS = {"body": "name", "contact": None, "bc": None, "soil": None, "gauge": "name",
+          "region": "name", "boundary": "name"}
 
 
 class Case:
@@ -37,6 +38,9 @@ class Case:
     output_path : str
         ``output.path`` as given; :attr:`output_file` resolves it.
     bodies, contacts, bcs : lists of Body, ContactSpec, BoundarySpec
+    plane : vstpetsc.plane.schema.PlaneSpec or None
+        A plane-strain case's [mesh], [[region]] and [[boundary]] tables
+        (None: a 1-D case; its bodies, contacts and bcs are then empty).
     gravity : GravitySpec or None
     gauges : list of GaugeSpec
         The [[gauge]] points, recorded every slab.
@@ -164,6 +168,9 @@ class Case:
         return isinstance(other, Case) and self.doc == other.doc
 
     def __repr__(self):
+        if self.plane is not None:
+            return f"<Case {self.source}: plane strain, {len(self.plane.regions)} regions, " \
+                f"{self.nslabs} slabs>"
         names = ", ".join(b.name for b in self.bodies)
         return f"<Case {self.source}: {len(self.bodies)} bodies ({names}), {self.nslabs} slabs>"
 

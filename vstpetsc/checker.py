@@ -275,6 +275,20 @@ class Checker(HistoryChecks):
         return val
 
 
+def name_problem(name):
+    """Why ``name`` cannot name a body or a gauge (None if it can): it
+    becomes an HDF5 group name and a CSV file name."""
+    if name == "":
+        return "must not be empty"
+    if name in (".", ".."):
+        return f"{name!r} is not a name"
+    bad = [c for c in name if not (c.isalnum() or c in "_-.")]
+    if bad:
+        return (f"may hold letters, digits, '_', '-' and '.' only, got {bad[0]!r} "
+                f"in {name!r}")
+    return None
+
+
 def is_number(val):
     return isinstance(val, numbers.Real) and not isinstance(val, bool)
 

@@ -17,7 +17,7 @@ from vstpetsc.energy import HELD, EnergyBook
 from vstpetsc.errors import InputError, Interrupted, SolveFailed
 from vstpetsc.loading import SlabLoads
 from vstpetsc.recorder import Recorder, load_restart
-from vstpetsc.results import layout
+from vstpetsc.results import layouts
 from vstpetsc.results.files import foreign, path_problem, same_file
 from vstpetsc.results.reader import Result
 from vstpetsc.shear import is_twin
@@ -136,23 +136,17 @@ class TimeLoop:
 
     def __init__(self, case, output, comm, quiet, out, err):
         from vstpetsc.petsc.failures import setup_error
-        from vstpetsc.petsc.options import SolverOptions
-        from vstpetsc.petsc.slab_solver import SlabSolver
 
         self.case, self.output, self.comm = case, output, comm
         self.talk = comm.getRank() == 0 and not quiet
         self.out, self.err = out, err
-        self.model = model_mod.build_model(case)
         self.static = None
-        if case.gravity is not None and case.gravity.initial == "static":
-            from vstpetsc.static import static_state       # scipy: only here
-            self.static = static_state(self.model, case.dt)
-            self.model.laws.append(self.static.reactions)
         self.start = time.perf_counter()
-        options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
-        self.loads = SlabLoads(self.model.laws, case.dt)
         try:
-            self.solver = SlabSolver(self.model, case.dt, comm, options, self.loads)
+            if case.plane is not None:
+                options = self._plane_parts(case, comm)
+            else:
+                options = self._line_parts(case, comm)
         except Exception as exc:
             error = setup_error(exc)
             if error is None:
@@ -160,9 +154,41 @@ class TimeLoop:
             raise error from None
         self.setup_time = time.perf_counter() - self.start
         self.space = self.solver.space
-        self.energy = EnergyBook(self.model)
         self.recorder = Recorder(output, self.model, self.solver, comm, options.flush_interval,
                                  self.energy)
+
+    def _line_parts(self, case, comm):
+        """The model, loads, solver and energy book of a 1-D case; returns
+        the run's SolverOptions."""
+        from vstpetsc.petsc.options import SolverOptions
+        from vstpetsc.petsc.slab_solver import SlabSolver
+
+        self.model = model_mod.build_model(case)
+        if case.gravity is not None and case.gravity.initial == "static":
+            from vstpetsc.static import static_state       # scipy: only here
+            self.static = static_state(self.model, case.dt)
+            self.model.laws.append(self.static.reactions)
+        options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
+        self.loads = SlabLoads(self.model.laws, case.dt)
+        self.solver = SlabSolver(self.model, case.dt, comm, options, self.loads)
+        self.energy = EnergyBook(self.model)
+        return options
+
+    def _plane_parts(self, case, comm):
+        """The same of a plane-strain case (vstpetsc.plane)."""
+        from vstpetsc.petsc.options import SolverOptions
+        from vstpetsc.plane.energy import RunEnergyBook
+        from vstpetsc.plane.loads import plane_loads
+        from vstpetsc.plane.model import PlaneModel
+        from vstpetsc.plane.solver import PlaneSolver
+
+        if case.gravity is not None and case.gravity.initial == "static":
+            raise InputError("gravity.initial: \"static\" is not built for plane strain yet")
+        self.model = PlaneModel(case, comm)
+        self.loads = plane_loads(self.model, case.dt)
+        self.solver = PlaneSolver(self.model, case.dt, comm, self.loads)
+        self.energy = RunEnergyBook(self.model, self.solver)
+        return SolverOptions.read(self.model.nnodes, comm.getSize())
 
     def execute(self, restart, petsc_options):
         """Solve every slab; return a RunInfo."""
@@ -176,7 +202,8 @@ class TimeLoop:
                 raise
         else:
             k0, rhs, envelopes = 0, None, None
-            u, v = model_mod.initial_state(model)
+            u, v = model.initial_state() if case.plane is not None else \
+                model_mod.initial_state(model)
             if self.static is not None:
                 u, v = u + self.static.u, v + self.static.v
             self.energy.start(u, v)
@@ -208,7 +235,9 @@ class TimeLoop:
         return {"case": case.text, "case_folder": case.folder,
                 "input_digests": json.dumps(case.input_digests, sort_keys=True),
                 "petsc_options": petsc_options,
-                "mpi_size": self.comm.getSize(), "formulation": layout.formulation(self.model),
+                "mpi_size": self.comm.getSize(),
+                "formulation": layouts.of(self.model).formulation(self.model),
+                **({"dimension": 2} if case.plane is not None else {}),
                 "dt": case.dt, "slabs": case.nslabs, "every": case.every,
                 **{f"unit_{k}": v for k, v in case.units.items()},
                 "solver": self.solver.describe()}
@@ -273,6 +302,10 @@ def header(case, model, output, solver, size):
 
 def describe_model(case, model, output):
     """The model summary: bodies, nodes, slabs, and a line per law."""
+    if case.plane is not None:
+        return (f"vstpetsc: {case.source}\n  dt = {case.dt:g}, {case.nslabs} slabs to t = "
+                f"{case.nslabs * case.dt:g}; keep every {case.every}; result: {output}\n"
+                + model.describe())
     mesh = model.mesh
     lines = [f"vstpetsc: {case.source}",
              f"  {len(case.bodies)} bodies, {mesh.nnodes} nodes, {mesh.elem_node.size} "

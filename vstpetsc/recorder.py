@@ -8,8 +8,7 @@ import time
 import numpy as np
 
 from vstpetsc.errors import InputError, SolveFailed
-from vstpetsc.gauges import Gauges
-from vstpetsc.results import layout
+from vstpetsc.results import layout, layouts
 
 
 class Recorder:
@@ -23,15 +22,19 @@ class Recorder:
         self.size = comm.getSize()
         self.interval = interval
         self.writer, self.lock = None, None
-        self.rows = layout.RowFiller(model)
-        self.event_sets = layout.event_sets(model)
+        self.layout = layouts.of(model)
+        self.rows = self.layout.RowFiller(model)
+        self.event_sets = self.layout.event_sets(model)
         if self.rank0 and solver.serial and solver.native:
             from vstpetsc.native.rows import RowCopier
 
             self.rows.offload(solver.u, solver.v, solver.elongation(), RowCopier.of)
-        self.gauges = Gauges(model)
+        self.gauges = self.layout.gauges(model)
         self.start = time.perf_counter()
-        if len(self.gauges):
+        if len(self.gauges) and hasattr(solver, "probe"):
+            self.probe = solver.probe(self.gauges.nodes)
+            self.gauge_values = np.zeros(4 * len(self.gauges))
+        elif len(self.gauges):
             from vstpetsc.petsc.probe import NodeValues
             self.probe = NodeValues(solver, self.gauges.nodes)
             self.gauge_values = np.zeros(4 * len(self.gauges))
@@ -88,14 +91,16 @@ class Recorder:
                 self.gauges.fill(u[self.gauges.nodes], v[self.gauges.nodes], self.gauge_values)
                 first.update((name, self.gauge_values[j]) for name, j in self.gauges.series())
             self.writer = ResultWriter.create(
-                self.output, layout.series(model), layout.statics(model),
-                layout.group_attrs(model), attrs, first, self.interval, snapshots,
+                self.output, self.layout.series(model), self.layout.statics(model),
+                self.layout.group_attrs(model), attrs, first, self.interval, snapshots,
                 [name for _, name in self.event_sets], expected)
         self._agree(create)
         self.compiled_gauges = None
         if self.writer and self.writer.gauges:
             column = dict(self.gauges.series())
-            self.gauge_order = np.array([column[n] for n in self.writer.gauges.names])
+            # a series of several values (a 2-D gauge's x, y) takes as many columns
+            self.gauge_order = np.concatenate([np.atleast_1d(column[n])
+                                               for n in self.writer.gauges.names])
             from vstpetsc.native.gauge_row import GaugeRow
             self.compiled_gauges = GaugeRow.of(self.gauges, self.solver, self.gauge_order)
 
@@ -103,11 +108,11 @@ class Recorder:
         """The state a restart needs, on rank 0: the envelopes and (``rhs``)
         the running right-hand side, Newton's start and the energy sums
         (collective)."""
-        lo_hi = self.solver.envelopes(self.model.mesh.elem_node.size)
+        lo_hi = self.solver.envelopes(self.layout.envelope_count(self.model))
         saved = self.solver.restart.saved() if rhs else None
         if not self.rank0:
             return None
-        out = layout.envelope_snapshots(self.model, *lo_hi)
+        out = self.layout.envelope_snapshots(self.model, *lo_hi)
         if rhs:
             out.update(saved)
         return out
@@ -209,12 +214,13 @@ def load_restart(path, case, model, energy):
         if "solver/slab" not in f or "case" not in f.attrs:
             raise InputError(f"--restart: {path} has no restart data (not a vstpetsc result)")
         _check_continues(f, path, case)
-        missing = [name for name, _ in layout.series(model) if name not in f] + \
-            [name for _, name in layout.event_sets(model) if name not in f]
+        lay = layouts.of(model)
+        missing = [name for name, _ in lay.series(model) if name not in f] + \
+            [name for _, name in lay.event_sets(model) if name not in f]
         if missing:
             raise InputError(f"--restart: {path} has no {missing[0]} (written by another "
                              "vstpetsc version); run the case again")
-        k0, u, v, values, first, last = layout.last_state(f, model)
+        k0, u, v, values, first, last = lay.last_state(f, model)
         if k0 >= case.nslabs:
             raise InputError(f"--restart: {path} already reaches slab {k0} (t = "
                              f"{f['time'][-1]:g}); raise time.end to continue it")
@@ -230,7 +236,7 @@ def load_restart(path, case, model, energy):
                              f"{k0}: the run failed there); run the case again")
         energy.restore(first, last, f["energy/external"][...],
                        continued=layout.ENERGY_STATE in state)
-        envelopes = layout.read_envelopes(f, model)
+        envelopes = lay.read_envelopes(f, model)
     return k0, np.asarray(u), np.asarray(v), state or None, envelopes
 
 

@@ -9,9 +9,10 @@ registries of :mod:`vstpetsc.laws`.  Nothing here imports PETSc.
 from dataclasses import dataclass, field
 
 from vstpetsc import laws, layers, materials, shear
-from vstpetsc.checker import MISSING, Checker, is_number, show
+from vstpetsc.checker import MISSING, Checker, is_number, name_problem, show
 from vstpetsc.errors import CaseError
 from vstpetsc.history import History
+from vstpetsc.plane import schema as plane
 
 WALL = "wall"
 ENDS = ("left", "right")
@@ -114,11 +115,16 @@ def read(doc, folder=None):
     """The typed parts of a case document: a dict of Case fields (relative
     file names refer to ``folder``)."""
     chk = Checker(folder)
-    chk.unknown(doc, TOP, "")
-    parts = {}
+    parts = {"plane": None}
+    if plane.is_plane(doc):
+        parts.update(plane.read(chk, doc))
+    else:
+        chk.unknown(doc, TOP, "")
     parts.update(read_time(chk, chk.table(doc, "time", "time", required=True)))
     parts.update(read_output(chk, chk.table(doc, "output", "output", required=False)))
     parts["units"] = read_units(chk, chk.table(doc, "units", "units", required=False))
+    if parts["plane"] is not None:
+        return _plane_parts(chk, doc, parts)
     bodies, names = read_bodies(chk, doc)
     contacts = read_contacts(chk, chk.tables(doc, "contact"), bodies, names)
     bcs = read_bcs(chk, chk.tables(doc, "bc"), bodies, names, contacts)
@@ -131,6 +137,16 @@ def read(doc, folder=None):
     if chk.problems:
         raise CaseError(chk.problems)
     parts.update(bodies=bodies, contacts=contacts, bcs=bcs, input_files=chk.inputs)
+    return parts
+
+
+def _plane_parts(chk, doc, parts):
+    """The rest of a plane-strain case's parts (no bodies, pairs, ends or soil)."""
+    parts["gravity"] = read_gravity(chk, chk.table(doc, "gravity", "gravity", required=False),
+                                    [])
+    if chk.problems:
+        raise CaseError(chk.problems)
+    parts.update(bodies=[], contacts=[], bcs=[], soils=[], input_files=chk.inputs)
     return parts
 
 
@@ -182,20 +198,6 @@ def read_output(chk, out):
 def read_units(chk, un):
     chk.unknown(un, tuple(UNITS), "units")
     return {k: chk.string(un, k, "units", required=False, default=d) for k, d in UNITS.items()}
-
-
-def name_problem(name):
-    """Why ``name`` cannot name a body or a gauge (None if it can): it
-    becomes an HDF5 group name and a CSV file name."""
-    if name == "":
-        return "must not be empty"
-    if name in (".", ".."):
-        return f"{name!r} is not a name"
-    bad = [c for c in name if not (c.isalnum() or c in "_-.")]
-    if bad:
-        return (f"may hold letters, digits, '_', '-' and '.' only, got {bad[0]!r} "
-                f"in {name!r}")
-    return None
 
 
 def named_table(chk, tbl, kind, i, keys, taken, reserved=None):

@@ -22,11 +22,10 @@ def edge_frames(mesh, edges):
     return length, np.column_stack([t[:, 1], -t[:, 0]]), t
 
 
-def dashpot_blocks(mesh, curve, rho, vp, vs):
-    """(nodes, (n, 2, 2) blocks): per node of the curve, the sum over its
-    edges of L/2 (rho Vp n n^T + rho Vs t t^T); rho, vp, vs per edge or
-    one value."""
-    edges = mesh.curves[curve]
+def dashpot_blocks(mesh, edges, rho, vp, vs):
+    """(nodes, (n, 2, 2) blocks): per node of the edges (m, 2) of a curve,
+    the sum over its edges of L/2 (rho Vp n n^T + rho Vs t t^T); rho, vp,
+    vs per edge or one value."""
     length, n, t = edge_frames(mesh, edges)
     rho, vp, vs = (np.broadcast_to(np.asarray(a, float), length.shape) for a in (rho, vp, vs))
     block = 0.5 * length[:, None, None] * (
@@ -53,7 +52,7 @@ class AbsorbingBoundary:
     None)."""
 
     def __init__(self, mesh, curve, rho, vp, vs, incident=None):
-        self.nodes, self.blocks = dashpot_blocks(mesh, curve, rho, vp, vs)
+        self.nodes, self.blocks = dashpot_blocks(mesh, mesh.curves[curve], rho, vp, vs)
         self.nnodes = mesh.nnodes
         self.incident = incident
 

@@ -39,6 +39,7 @@ class LocalMesh:
     stop: int
     size: int
     comm: object
+    original: np.ndarray = None
 
 
 def plex(mesh, comm, curve_names):
@@ -101,9 +102,15 @@ def distribute(mesh, comm, overlap=1, names=None):
         names = comm.tompi4py().bcast(
             (mesh.region_names, tuple(mesh.curves)) if rank == 0 else None, root=0)
     dm = plex(mesh, comm, names[1])
+    p0, p1 = dm.getChart()
+    point = np.arange(p0, p1, dtype=PETSc.IntType)     # rank 0's points as read
+    cells0 = mesh.ncells if rank == 0 else 0
     if comm.getSize() > 1:
-        dm.distribute(overlap=overlap)
+        point = _migrated(dm.distribute(overlap=overlap), point, dm.getChart())
     local, _ = _cells(dm)
+    v0, v1 = dm.getDepthStratum(0)
+    original = comm.tompi4py().bcast(cells0, root=0)
+    original = (point[v0:v1] - original).astype(np.int64)
     xy = dm.getCoordinatesLocal().getArray().reshape(-1, 2)
     numbers = dm.getVertexNumbering().getIndices()
     owned = numbers >= 0
@@ -120,7 +127,19 @@ def distribute(mesh, comm, overlap=1, names=None):
         leaves = np.asarray(leaves)
         owned_cells[leaves[(leaves >= c0) & (leaves < c1)] - c0] = False
     return LocalMesh(lm, global_vertex, owned, owned_cells, start, start + counts[rank],
-                     sum(counts), comm)
+                     sum(counts), comm, original)
+
+
+def _migrated(sf, root, chart):
+    """Each distributed point's number before distribution (the migration
+    SF carries rank 0's numbers to the points they became)."""
+    from mpi4py import MPI
+
+    leaf = -np.ones(chart[1] - chart[0], dtype=PETSc.IntType)
+    unit = MPI.INT if np.dtype(PETSc.IntType).itemsize == 4 else MPI.INT64_T
+    sf.bcastBegin(unit, root, leaf, MPI.REPLACE)
+    sf.bcastEnd(unit, root, leaf, MPI.REPLACE)
+    return leaf
 
 
 def _local_groups(dm, ncells, nregions, curve_names):

@@ -12,6 +12,8 @@ Stresses at the cells' centres, sigma_xx, sigma_yy, sigma_xy.  Pure numpy."""
 
 import numpy as np
 
+from vstpetsc import energy as shared
+
 from vstpetsc.plane import elements
 
 
@@ -57,3 +59,30 @@ def centre_stress(mesh, u, lam, mu):
         uc = u.reshape(-1, 2)[nodes].reshape(cells.size, -1)
         out[cells] = np.einsum("nab,nb->na", D[cells], np.einsum("nbj,nj->nb", B, uc))
     return out
+
+
+
+class RunEnergyBook(shared.EnergyBook):
+    """The shared EnergyBook (the rows' terms, restarts, the peak) over a
+    plane-strain solver: the state's kinetic and strain energy come with
+    the solver's totals (summed over the ranks); no springs."""
+
+    def __init__(self, model, solver):
+        self.model, self.solver = model, solver
+        self.initial = self.held0 = self.peak = self.beyond0 = 0.0
+        self.offset = dict.fromkeys(shared.SUMMED, 0.0)
+        self.first = (0.0, 0.0)
+
+    def state(self, u, v, d=None, known=None):
+        kinetic, strain = known if known is not None else self.first
+        return {"kinetic": kinetic, "strain": strain, "spring": 0.0}
+
+    def start(self, u, v):
+        self.first = self.solver.held_energies(u, v)         # collective
+        self.held0 = self.initial = sum(self.first)
+        self.peak = abs(self.initial)
+
+    def row(self, u, v, totals, d=None, known=None):
+        if "kinetic" in totals:
+            known = (totals["kinetic"], totals["strain"])
+        return super().row(u, v, totals, d, known)

@@ -30,6 +30,29 @@ def _held_rows(A, held, first):
     return sp.csr_matrix(A), rows
 
 
+def linear_solver(A, comm):
+    """The KSP of the slab matrix A (options prefix ``vst_plane_``): PETSc's
+    LU in nested dissection on one rank, MUMPS's on several, unless the
+    options say otherwise; set up (factored) here, once."""
+    opts = PETSc.Options()
+    ksp = PETSc.KSP().create(comm=comm)
+    ksp.setOptionsPrefix(PREFIX)
+    ksp.setOperators(A)
+    ksp.setType("preonly")
+    pc = ksp.getPC()
+    pc.setType("lu")
+    if comm.getSize() > 1:
+        pc.setFactorSolverType("mumps")
+    ksp.setFromOptions()
+    # PETSc's own LU in nested dissection unless told otherwise (MUMPS
+    # orders by itself)
+    if pc.getType() == "lu" and pc.getFactorSolverType() == "petsc" and \
+            not opts.hasName(PREFIX + "pc_factor_mat_ordering_type"):
+        pc.setFactorOrdering("nd")
+    ksp.setUp()
+    return ksp
+
+
 class PlaneSlabs:
     """Slabs of dt for the spatial matrices M, C (or None), K (CSR, 2
     dofs a node: whole, or a rank's owned rows from spatial dof
@@ -41,29 +64,10 @@ class PlaneSlabs:
         A, self.rows = _held_rows(slab.sparse_slab_matrix(M, C, K, dt), held, first)
         self.A = petsc_matrix(A, comm)
         self.M, self.K = petsc_matrix(M, comm), petsc_matrix(K, comm)
-        self.ksp = self._solver(comm)
+        self.ksp = linear_solver(self.A, comm)
         self.x, self.b = self.A.createVecs()
         self.mv, self.ku = self.M.createVecs()
         self.v_vec, self.u_vec = self.M.createVecs()
-
-    def _solver(self, comm):
-        opts = PETSc.Options()
-        ksp = PETSc.KSP().create(comm=comm)
-        ksp.setOptionsPrefix(PREFIX)
-        ksp.setOperators(self.A)
-        ksp.setType("preonly")
-        pc = ksp.getPC()
-        pc.setType("lu")
-        if comm.getSize() > 1:
-            pc.setFactorSolverType("mumps")
-        ksp.setFromOptions()
-        # PETSc's own LU in nested dissection unless told otherwise (MUMPS
-        # orders by itself)
-        if pc.getType() == "lu" and pc.getFactorSolverType() == "petsc" and \
-                not opts.hasName(PREFIX + "pc_factor_mat_ordering_type"):
-            pc.setFactorOrdering("nd")
-        ksp.setUp()
-        return ksp
 
     def step(self, u, v, forces=None):
         """(u^{n+1}, v^{(n+1)-}) from (u^n, v^{n-}), this rank's entries;

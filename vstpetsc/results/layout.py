@@ -47,6 +47,16 @@ COMPLETE_ROWS = "complete_rows"
 COMPLETE_GAUGE_ROWS = "complete_gauge_rows"
 
 
+def gauges(model):
+    """The model's gauges (:class:`vstpetsc.gauges.Gauges`)."""
+    return Gauges(model)
+
+
+def envelope_count(model):
+    """Elements whose envelopes the solver keeps."""
+    return model.mesh.elem_node.size
+
+
 def text(value):
     """An attribute of the file as a str (h5py may hand back bytes)."""
     return value.decode() if isinstance(value, bytes) else str(value)

@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 from vstpetsc.errors import InputError
-from vstpetsc.results import layout
+from vstpetsc.results import layout, plane_layout
 from vstpetsc.results.files import held
 from vstpetsc.results.layout import text
 from vstpetsc.results.summary import summarize
@@ -216,6 +216,32 @@ class Result(FileReads):
         """The kept times (t = 0 and the kept slab ends)."""
         return self[layout.TIME]
 
+    @property
+    def dimension(self):
+        """2 for a plane-strain result, 1 for bodies on a line."""
+        return int(self.attrs.get(plane_layout.DIMENSION, 1))
+
+    @property
+    def mesh(self):
+        """A plane-strain result's mesh: ``.coordinates`` (nn, 2), ``.cells``
+        (ne, 4; -1 pads a triangle), ``.region`` (ne,) and ``.region_names``."""
+        self._plane_only("mesh")
+        group = Group(self, plane_layout.MESH)
+        group.region_names = [text(n) for n in self.group_attrs(
+            f"{plane_layout.MESH}/region").get("names", [])]
+        return group
+
+    @property
+    def field(self):
+        """A plane-strain result's fields at the kept times: ``.u``, ``.v``
+        (nt, nn, 2), ``.stress`` (nt, ne, 3: sigma_xx, sigma_yy, sigma_xy)."""
+        self._plane_only("field")
+        return Group(self, plane_layout.FIELD)
+
+    def _plane_only(self, what):
+        if self.dimension != 2:
+            raise KeyError(f"{self.path} is a 1-D result: it has no {what} (see .body)")
+
     def body(self, name):
         """Datasets of body ``name``: ``.x``, ``.u``, ``.v``, ``.stress``."""
         if name not in self.bodies:
@@ -282,9 +308,11 @@ def _outline(f):
     """(missing required names, body names left to right, number of
     contact pairs, complete rows, complete gauge rows, {name: kind} of every
     group and dataset (:func:`_walk`)) of an open file."""
-    missing = [k for k in layout.REQUIRED if k not in f]
+    plane = int(f.attrs.get(plane_layout.DIMENSION, 1)) == 2
+    missing = [k for k in (plane_layout.REQUIRED if plane else layout.REQUIRED) if k not in f]
     bodies = [name for _, name in sorted((f[layout.body_path(n, "x")][0], n)
-                                         for n in f[layout.BODY])] if not missing else []
+                                         for n in f[layout.BODY])] \
+        if not (missing or plane) else []
     ncontacts = len(f[layout.CONTACT]) if layout.CONTACT in f else 0
     names, kept, every_slab = {}, [], []
     for name, kind, length in _walk(f):
@@ -403,7 +431,7 @@ class GaugeGroup(Group):
 
     @property
     def time(self):
-        return np.arange(self.u.size) * self.dt
+        return np.arange(len(self.u)) * self.dt
 
     @property
     def acceleration(self):

@@ -115,7 +115,9 @@ def summarize(result):
         "slabs_done": int(a.get("slabs_done", round(time[-1] / dt) if time.size else 0)),
         "kept": time.size, "t_end": float(time[-1]) if time.size else 0.0,
         "bodies": bodies, "pairs": pairs,
-        "gauges": [gauge_summary(result, name) for name in result.gauges],
+        "gauges": [(plane_gauge_summary if result.dimension == 2 else gauge_summary)(
+            result, name) for name in result.gauges],
+        "plane": plane_summary(result) if result.dimension == 2 else None,
         "soils": soil_summaries(result), "unit_length": text(a.get("unit_length", "m")),
         "energy_start": float(energy[0]) if energy.size else np.nan,
         "energy_end": float(energy[-1]) if energy.size else np.nan,
@@ -143,6 +145,47 @@ def soil_summaries(result):
                     "toe_force_max": float(s["toe_force"].max()),
                     "shaft_force_max": float(s["shaft_force"].max()),
                     "energy": float(s["energy"][-1])})
+    return out
+
+
+def plane_summary(result):
+    """A plane-strain result's mesh and peaks at the kept rows: the largest
+    speed (node, time) and the largest magnitude of each stress component
+    (cell centre, time), read row by row."""
+    mesh = result.mesh
+    xy, cells = mesh.coordinates, mesh.cells
+    corner = np.where(cells < 0, cells[:, [0]], cells)
+    centre = xy[corner].mean(axis=1) if cells.size else np.zeros((0, 2))
+    out = {"cells": len(cells), "nodes": len(xy), "regions": mesh.region_names,
+           "triangles": int((cells[:, 3] < 0).sum()) if cells.size else 0}
+    speed, stress = (0.0, 0, 0), [(0.0, 0, 0)] * 3
+    time = result.time
+    for i in range(time.size):
+        v = np.hypot(*result.read("field/v", np.s_[i]).T)
+        j = int(v.argmax()) if v.size else 0
+        if v.size and v[j] > speed[0]:
+            speed = (float(v[j]), j, i)
+        s = result.read("field/stress", np.s_[i])
+        for c in range(3):
+            k = int(np.abs(s[:, c]).argmax()) if s.size else 0
+            if s.size and abs(s[k, c]) > abs(stress[c][0]):
+                stress[c] = (float(s[k, c]), k, i)
+    out["speed"] = (speed[0], *map(float, xy[speed[1]]), float(time[speed[2]])) \
+        if xy.size else None
+    out["stress"] = [(value, *map(float, centre[k]), float(time[i])) for value, k, i in stress] \
+        if cells.size else []
+    return out
+
+
+def plane_gauge_summary(result, name):
+    """A 2-D gauge's point and its peak velocity per component (every slab)."""
+    g = result.gauge(name)
+    v, t = g.v, g.time
+    out = {"name": name, "point": tuple(map(float, g.attrs.get("x", (np.nan, np.nan))))}
+    for c, axis in enumerate("xy"):
+        if len(v):
+            k = int(np.abs(v[:, c]).argmax())
+            out[f"v{axis}_peak"] = (float(v[k, c]), float(t[k]))
     return out
 
 
@@ -250,13 +293,25 @@ def slip_lines(p):
             f"(largest |slip| {p['slip_max']:.6g})"]
 
 
+def plane_lines(p):
+    """The plane-strain lines of `vstpetsc info`."""
+    lines = [f"  plane strain: {p['cells']} cells ({p['triangles']} triangles), {p['nodes']} "
+             f"nodes; regions {', '.join(p['regions'])}"]
+    if p["speed"] is not None:
+        v, x, y, t = p["speed"]
+        lines.append(f"    largest speed {v:.6g} at ({x:.6g}, {y:.6g}), t = {t:.6g}")
+    for name, (value, x, y, t) in zip(("sigma_xx", "sigma_yy", "sigma_xy"), p["stress"]):
+        lines.append(f"    largest |{name}| {value:.6g} at ({x:.6g}, {y:.6g}), t = {t:.6g}")
+    return lines
+
+
 def format_summary(s, path):
     """The one-screen text of `vstpetsc info`."""
     lines = [f"{path}: {s['status']}" + (f" ({s['message']})" if s["message"] else ""),
              f"  vstpetsc {s['version']}, {s['mpi_size']} rank(s), solver: {s['solver']}",
              f"  dt = {s['dt']:g}, {s['slabs_done']} of {s['slabs']} slabs to t = "
              f"{s['t_end']:g}, {s['kept']} kept times (every {s['every']})",
-             "  bodies:"]
+             *(["  bodies:"] if s.get("plane") is None else plane_lines(s["plane"]))]
     for b in s["bodies"]:
         lines.append(f"    {b['name']:<14} x = [{b['x0']:g}, {b['x1']:g}], {b['elements']} elements")
         for kind in ("compression", "tension"):
@@ -302,6 +357,11 @@ def gauge_lines(gauges):
     """The gauge lines of `vstpetsc info` (every slab)."""
     lines = ["  gauges (every slab):"] if gauges else []
     for g in gauges:
+        if "point" in g:               # a plane-strain gauge
+            peaks = "; ".join(f"peak v_{a} {g[f'v{a}_peak'][0]:.6g} (t = {g[f'v{a}_peak'][1]:.6g})"
+                              for a in "xy" if f"v{a}_peak" in g) or "no rows"
+            lines.append(f"    {g['name']:<14} ({g['point'][0]:g}, {g['point'][1]:g}): {peaks}")
+            continue
         if "stress_min" not in g:
             lines.append(f"    {g['name']:<14} {g['body']} x = {g['x']:g}: no rows")
             continue

@@ -61,9 +61,16 @@ class GaugeStream:
         self.names = names
         self.ids = [growing[name].id for name in names]
         self.n = growing[names[0]].rows
+        # a series of rows of several values (a 2-D gauge's (x, y)) takes
+        # as many columns, in order
+        self.tails = [tuple(dsid.shape[1:]) for dsid in self.ids]
+        ends = np.cumsum([math.prod(tail) for tail in self.tails])
+        self.columns = [slice(int(b - w), int(b)) for b, w in
+                        zip(ends, [math.prod(tail) for tail in self.tails])]
+        self.width = int(ends[-1])
         rows = max(1, min(BUFFER_ROWS, rows))
-        self.buffer = _touched((rows, len(names)), np.float64)
-        self.spare = _touched((rows, len(names)), np.float64)   # in flight
+        self.buffer = _touched((rows, self.width), np.float64)
+        self.spare = _touched((rows, self.width), np.float64)   # in flight
         self.pending = 0
 
     @classmethod
@@ -84,7 +91,7 @@ class GaugeStream:
 
     def need(self):
         """Bytes the next write may take, whole chunks included."""
-        return (self.pending + 4096) * 8 * len(self.ids)
+        return (self.pending + 4096) * 8 * self.width
 
     def take(self):
         """(rows, count) of the filled buffer for :meth:`write`; the next
@@ -96,8 +103,8 @@ class GaugeStream:
     def write(self, block):
         """Append a block of :meth:`take` to the datasets."""
         rows, k = block
-        for j, dsid in enumerate(self.ids if k else ()):
-            _append(dsid, self.n, rows[:k, j])
+        for dsid, cols, tail in zip(self.ids if k else (), self.columns, self.tails):
+            _append(dsid, self.n, rows[:k, cols].reshape((k,) + tail))
         self.n += k
 
     def truncate(self, rows):
@@ -413,7 +420,8 @@ def _create(cls, path, series, statics, groups, attrs, first_row, interval, snap
         writer = cls(f, lock, interval, fd, growing, expected)
         writer.append(first_row)
         if writer.gauges:
-            writer.gauges.slot()[:] = [first_row[n] for n in writer.gauges.names]
+            writer.gauges.slot()[:] = np.concatenate([np.ravel(first_row[n])
+                                                      for n in writer.gauges.names])
         writer.flush(snapshots, 0)
         writer.settle()
         start_swmr(f)          # every object is made: readers may come
@@ -518,7 +526,8 @@ def _header(f, series, statics, groups, attrs, events=(), expected=None):
     for name, data in statics.items():
         f.create_dataset(name, data=data)
     for group, group_attrs in groups.items():
-        set_attrs(f.require_group(group), group_attrs)
+        # a static dataset may carry attributes too (/mesh/region's names)
+        set_attrs(f[group] if group in statics else f.require_group(group), group_attrs)
     growing = Growing(f)
     for name, tail in series:
         rows = expected and expected[1 if layout.every_slab(name) else 0]

@@ -1,0 +1,63 @@
+"""What a plane-strain model prescribes per slab, on one rank: the nodal
+force integrals int T_a f dt of its loads (a nodal pattern times a
+history each: tractions, incident waves, gravity) and the velocities of
+its held dofs.  Histories are evaluated for blocks of slabs at a time,
+exactly (their own slab integrals), as vstpetsc.loading does in 1-D.
+Pure numpy and scipy."""
+
+import numpy as np
+import scipy.sparse as sp
+
+from vstpetsc.loading import BLOCK
+
+
+class PlaneLoads:
+    """``slab(k)`` = (forces (2 n, 2): int T_a f dt of every owned dof,
+    velocities (m, 2): (v^1, v^2) of the held dofs ``held``) of slab k;
+    ``terms``: [(pattern over the owned dofs, History)]."""
+
+    def __init__(self, terms, held, held_histories, dt, ndofs):
+        self.dt = dt
+        self.histories = [h for _, h in terms]
+        self.patterns = sp.csr_matrix(np.column_stack([p for p, _ in terms])) if terms \
+            else sp.csr_matrix((ndofs, 0))
+        self.held = np.asarray(held, dtype=int)
+        self.moving = [(i, h) for i, h in enumerate(held_histories) if h is not None]
+        self.all_fixed = not self.moving
+        self.block = (0, 0, None)
+
+    def _evaluate(self, k0, k1):
+        count, dt = k1 - k0, self.dt
+        integrals = np.zeros((count, len(self.histories), 2))
+        for j, h in enumerate(self.histories):
+            integrals[:, j] = h.slab_integrals(dt, k0, k1)
+        velocities = np.zeros((count, self.held.size, 2))
+        ends = dt * np.arange(k0, k1 + 1)
+        for i, h in self.moving:
+            values = h(ends)
+            velocities[:, i, 0], velocities[:, i, 1] = values[:-1], values[1:]
+        return integrals, velocities
+
+    def slab(self, k):
+        k0, k1, arrays = self.block
+        if not k0 < k <= k1:
+            k0, k1 = k - 1, k - 1 + BLOCK
+            arrays = self._evaluate(k0, k1)
+            self.block = (k0, k1, arrays)
+        integrals, velocities = arrays
+        i = k - k0 - 1
+        forces = self.patterns @ integrals[i] if self.histories else None
+        return forces, velocities[i], None
+
+
+def plane_loads(model, dt):
+    """The PlaneLoads of a model: its boundaries' patterns and held dofs,
+    and gravity (a body force rho g along +y: the mass matrix's rows
+    times the unit field along y, g the [gravity] history)."""
+    terms = list(model.boundaries.patterns)
+    gravity = model.case.gravity
+    if gravity is not None and not gravity.g.is_zero:
+        M = model.matrices()[0]
+        terms.append((np.asarray(M[:, 1::2].sum(axis=1)).ravel(), gravity.g))
+    held, histories = model.boundaries.held_dofs()
+    return PlaneLoads(terms, held, histories, dt, 2 * (model.local.stop - model.local.start))

@@ -1,0 +1,183 @@
+"""A plane-strain model of a case (interface.md, "Plane strain (2-D)"):
+the mesh as read or generated on rank 0 (the result file's numbering),
+distributed by DMPlex (vstpetsc.plane.distributed), each cell's material
+from its region, and each rank's rows of M, C, K with the boundaries'
+dashpots, held dofs and load patterns (vstpetsc.plane.curves).
+
+Unknowns: (v_x, v_y) of each vertex in DMPlex's global numbering; a rank
+owns the vertices [start, stop).  ``owned_original`` maps them to the
+numbering of the mesh as read, in which the result file, the initial
+state and the gauges are given."""
+
+import numpy as np
+
+from vstpetsc.errors import InputError
+from vstpetsc.plane import assembly, curves, distributed, elements
+
+
+def read_mesh(spec):
+    """The PlaneMesh of a [mesh] table (InputError naming the key)."""
+    from vstpetsc.plane import dam_mesh, dmplex, mesh
+
+    if spec.kind == "rectangle":
+        p = spec.params
+        return mesh.rectangle(p["x"], p["y"], p["nx"], p["ny"], p["triangles"])
+    if spec.kind == "dam":
+        try:
+            return dam_mesh.dam_mesh(**spec.params)
+        except ValueError as exc:
+            raise InputError(f"mesh.dam: {exc}") from None
+    try:
+        return dmplex.read_gmsh(spec.file)
+    except Exception as exc:        # PETSc's reader raises its own errors
+        reason = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
+        raise InputError(f"mesh.file: cannot read {spec.file} as a Gmsh mesh: {reason}") from None
+
+
+def check_names(case, mesh):
+    """InputError unless every [[region]] and [[boundary]] names a region
+    or a curve of the mesh and every region of the mesh has a table."""
+    plane, regions = case.plane, mesh.region_names
+    named = [r.name for r in plane.regions]
+    for i, r in enumerate(plane.regions):
+        if r.name not in regions:
+            raise InputError(f"region[{i}] ({r.name}).name: the mesh has no region {r.name!r} "
+                             f"(regions: {', '.join(regions)})")
+    missing = [r for r in regions if r not in named]
+    if missing:
+        raise InputError(f"region: the mesh's region {missing[0]!r} has no [[region]] table")
+    for i, b in enumerate(plane.boundaries):
+        if b.name not in mesh.curves:
+            raise InputError(f"boundary[{i}] ({b.name}).name: the mesh has no curve {b.name!r} "
+                             f"(curves: {', '.join(mesh.curves) or 'none'})")
+    for g in case.gauges:
+        if mesh_cell(mesh, g.x) is None:
+            raise InputError(f"gauge ({g.name}).x: ({g.x[0]:g}, {g.x[1]:g}) lies in no cell "
+                             "of the mesh")
+
+
+def mesh_cell(mesh, point):
+    """(cell, its nodes, their weights) of the cell holding ``point`` (the
+    first such), or None: the finite element field's own interpolation."""
+    from vstpetsc.plane.gauges import locate
+    return locate(mesh, np.asarray(point, float))
+
+
+class PlaneModel:
+    """The 2-D model of a case on ``comm`` (collective)."""
+
+    dimension = 2
+
+    def __init__(self, case, comm):
+        self.case, self.comm = case, comm
+        self.laws, self.recorded, self.bodies, self.soil = [], [], [], None
+        rank0 = comm.getRank() == 0
+        error, mesh = None, None
+        if rank0:
+            try:
+                mesh = read_mesh(case.plane.mesh)
+                check_names(case, mesh)
+            except InputError as exc:
+                error = str(exc)
+        error = comm.tompi4py().bcast(error, root=0)
+        if error:
+            raise InputError(error)
+        self.mesh = mesh                            # the whole mesh on rank 0, None elsewhere
+        self.local = distributed.distribute(mesh, comm)
+        self.nnodes = self.local.size
+        self.ncells = comm.tompi4py().bcast(mesh.ncells if rank0 else None, root=0)
+        self.regions = self._regions(self.local.mesh.region_names)
+        self._owned_numbering()
+        self.materials = cell_materials(self.regions, self.local.mesh.region)
+        if rank0:
+            self.cell_materials = cell_materials(self._regions(mesh.region_names), mesh.region)
+        self.boundaries = curves.Boundaries(self, case.plane.boundaries)
+        self._matrices = None
+        from vstpetsc.plane.gauges import PlaneGauges
+        self.gauges = PlaneGauges(self)
+
+    def _regions(self, names):
+        by_name = {r.name: r for r in self.case.plane.regions}
+        return [by_name[n] for n in names]
+
+    def _owned_numbering(self):
+        """The local vertices this rank owns in global order, and their
+        numbers in the mesh as read."""
+        local = self.local
+        owned = np.flatnonzero(local.owned)
+        owned = owned[np.argsort(local.global_vertex[owned])]
+        self.owned_local = owned
+        self.owned_original = local.original[owned]
+        self.first = local.start
+
+    def matrices(self):
+        """(M, C or None, K): this rank's rows (CSR, global columns),
+        assembled once."""
+        if self._matrices is None:
+            self._matrices = self._assemble()
+        return self._matrices
+
+    def _assemble(self):
+        local, mat = self.local, self.materials
+        parts = assembly.element_matrices(local.mesh, mat["lam"], mat["mu"], mat["rho"])
+        mass, stiff, damp = [], [], []
+        for cells, Ke, Me in parts.values():
+            Me = massed(Me, mat["mass"][cells])
+            mass.append((cells, Me))
+            stiff.append((cells, Ke))
+            a, b = mat["alpha"][cells], mat["beta"][cells]
+            if a.any() or b.any():
+                damp.append((cells, a[:, None, None] * Me + b[:, None, None] * Ke))
+        M, K = (distributed.owned_rows(local, blocks) for blocks in (mass, stiff))
+        C = distributed.owned_rows(local, damp) if damp else None
+        dashpots = self.boundaries.dashpots()
+        if dashpots is not None:
+            C = dashpots if C is None else C + dashpots
+        return M, C, K
+
+    def describe(self):
+        lines = [f"  plane strain: {self.ncells} cells, {self.nnodes} nodes, "
+                 f"{len(self.case.plane.regions)} regions"]
+        dt = self.case.dt
+        for r in self.case.plane.regions:
+            lines.append(f"  region {r.name}: Vp = {r.vp:.6g}, Vs = {r.vs:.6g}, rho = {r.rho:g}, "
+                         f"Vp dt = {r.vp * dt:.3g}")
+        return "\n".join(lines + [f"  {line}" for line in self.boundaries.describe()])
+
+    def initial_state(self):
+        """(u, v) of every node (interleaved (x, y), the mesh's numbering as
+        read) from the regions' u0 and v0; a node shared by regions takes
+        the last region's value (collective: every rank gets them)."""
+        u = v = None
+        if self.comm.getRank() == 0:
+            mesh = self.mesh
+            u, v = np.zeros((mesh.nnodes, 2)), np.zeros((mesh.nnodes, 2))
+            for i, r in enumerate(self._regions(mesh.region_names)):
+                nodes = mesh.cells[mesh.region == i]
+                nodes = nodes[nodes >= 0]
+                u[nodes], v[nodes] = r.u0, r.v0
+        u, v = self.comm.tompi4py().bcast((u, v), root=0)
+        return u, v
+
+
+def cell_materials(regions, region):
+    """{lam, mu, rho, alpha, beta, mass} per cell from its region's spec."""
+    take = lambda f: np.array([f(r) for r in regions], dtype=float)[region] if len(region) \
+        else np.zeros(0)
+    out = {"lam": take(lambda r: r.lam), "mu": take(lambda r: r.mu), "rho": take(lambda r: r.rho),
+           "alpha": take(lambda r: r.damping[0]), "beta": take(lambda r: r.damping[1])}
+    kinds = list(elements.MASSES)
+    out["mass"] = np.array([kinds.index(r.mass) for r in regions], dtype=int)[region] \
+        if len(region) else np.zeros(0, dtype=int)
+    return out
+
+
+def massed(Me, kind):
+    """Consistent element masses Me turned into each cell's mass kind
+    (indices into elements.MASSES)."""
+    out = np.empty_like(Me)
+    for k, transform in enumerate(elements.MASSES.values()):
+        chosen = kind == k
+        if chosen.any():
+            out[chosen] = transform(Me[chosen])
+    return out

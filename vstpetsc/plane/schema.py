@@ -1,0 +1,324 @@
+"""The tables of a plane-strain case (interface.md, "Plane strain (2-D)"):
+[mesh], [[region]], [[boundary]], [[gauge]] with x = [x, y], and
+[gravity] along y.  A case with a [mesh] table is 2-D; the 1-D tables
+are refused in it.  Names of regions and curves are checked against the
+mesh when the model reads it (vstpetsc.plane.model); nothing here reads
+the mesh or imports PETSc."""
+
+import os
+from dataclasses import dataclass, field
+
+from vstpetsc.checker import is_number, name_problem, show
+from vstpetsc.history import History
+
+ONE_D = ("body", "contact", "bc", "soil")
+TOP = ("time", "output", "units", "gravity", "gauge", "mesh", "region", "boundary")
+GENERATED = {"rectangle": ("x", "y", "nx", "ny", "triangles"),
+             "dam": ("height", "crest", "upstream", "downstream", "foundation_depth",
+                     "foundation_width", "h")}
+REGION_KEYS = ("name", "E", "nu", "Vs", "Vp", "rho", "damping", "mass", "v0", "u0")
+BOUNDARY_KEYS = ("name", "type", "value", "rock", "incident", "motion")
+TYPES = ("fixed", "velocity", "traction", "absorbing")
+MASSES = ("averaged", "consistent", "lumped")
+MOTIONS = ("incident", "outcrop")
+COMPONENTS = ("x", "y")
+
+
+@dataclass
+class MeshSpec:
+    """[mesh]: a Gmsh ``file`` (absolute path), or a generated mesh:
+    ``kind`` "rectangle" or "dam" with its ``params``."""
+
+    kind: str
+    file: str | None = None
+    params: dict = field(default_factory=dict)
+
+
+@dataclass
+class RegionSpec:
+    """A [[region]]: Lame's lambda, mu and rho; damping (alpha, beta);
+    uniform initial velocity and displacement (x, y)."""
+
+    name: str
+    lam: float
+    mu: float
+    rho: float
+    damping: tuple = (0.0, 0.0)
+    mass: str = "averaged"
+    v0: tuple = (0.0, 0.0)
+    u0: tuple = (0.0, 0.0)
+
+    @property
+    def vp(self):
+        return ((self.lam + 2 * self.mu) / self.rho) ** 0.5
+
+    @property
+    def vs(self):
+        return (self.mu / self.rho) ** 0.5
+
+
+@dataclass
+class CurveSpec:
+    """A [[boundary]] along the curve ``name``: ``values`` {component:
+    History} (velocity, traction; fixed: both 0), or for "absorbing" the
+    ``rock`` (rho, Vp, Vs; None: the adjacent cells') and the ``incident``
+    wave's particle velocity {component: History} (outcrop records halved)."""
+
+    name: str
+    type: str
+    values: dict = field(default_factory=dict)
+    rock: tuple | None = None
+    incident: dict = field(default_factory=dict)
+
+
+@dataclass
+class PlaneSpec:
+    mesh: MeshSpec
+    regions: list
+    boundaries: list
+
+
+@dataclass
+class PlaneGauge:
+    """A [[gauge]] of a 2-D case: a point (x, y)."""
+
+    name: str
+    x: tuple
+
+
+def is_plane(doc):
+    return isinstance(doc, dict) and "mesh" in doc
+
+
+def read(chk, doc):
+    """{"plane": PlaneSpec, "gauges": [...], "gravity_axis": "y"} after
+    reporting every problem of the 2-D tables."""
+    for key in ONE_D:
+        if key in doc:
+            chk.add(key, f"[[{key}]] is a 1-D table; a case with [mesh] is plane strain "
+                    "(use [[region]] and [[boundary]])")
+    if "interface" in doc:
+        chk.add("interface", "[[interface]] is not built yet (issue 38)")
+    chk.unknown({k: v for k, v in doc.items() if k not in ONE_D + ("interface",)}, TOP, "")
+    mesh = read_mesh(chk, chk.table(doc, "mesh", "mesh", required=True))
+    regions = read_regions(chk, chk.tables(doc, "region"))
+    boundaries = read_boundaries(chk, chk.tables(doc, "boundary"))
+    return {"plane": PlaneSpec(mesh, regions, boundaries),
+            "gauges": read_gauges(chk, chk.tables(doc, "gauge"))}
+
+
+def read_mesh(chk, tbl):
+    chk.unknown(tbl, ("file",) + tuple(GENERATED), "mesh")
+    given = [k for k in ("file",) + tuple(GENERATED) if k in tbl]
+    if len(given) != 1:
+        chk.add("mesh", "give exactly one of file, rectangle, dam" +
+                (f" (got {', '.join(given)})" if given else ""))
+        return None
+    kind = given[0]
+    if kind == "file":
+        name = chk.string(tbl, "file", "mesh")
+        if name is None:
+            return None
+        path = os.path.join(chk.folder, os.path.expanduser(name))
+        if not os.path.isfile(path):
+            chk.add("mesh.file", f"no such file: {name}")
+            return None
+        chk.inputs.append(path)
+        return MeshSpec("file", file=path)
+    params = tbl[kind]
+    where = f"mesh.{kind}"
+    if not isinstance(params, dict):
+        chk.add(where, f"must be a table, got {show(params)}")
+        return None
+    chk.unknown(params, GENERATED[kind], where)
+    return (_rectangle if kind == "rectangle" else _dam)(chk, params, where)
+
+
+def _rectangle(chk, p, where):
+    out = {}
+    for key in ("x", "y"):
+        pair = p.get(key)
+        if not (isinstance(pair, list) and len(pair) == 2 and all(map(is_number, pair))
+                and pair[0] < pair[1]):
+            chk.add(f"{where}.{key}", f"must be [low, high] with low < high, got {show(pair)}")
+            return None
+        out[key] = tuple(float(a) for a in pair)
+    out["nx"], out["ny"] = (chk.integer(p, k, where) for k in ("nx", "ny"))
+    out["triangles"] = chk.boolean(p, "triangles", where)
+    return None if None in out.values() else MeshSpec("rectangle", params=out)
+
+
+def _dam(chk, p, where):
+    out = {k: chk.number(p, k, where, positive=k != "crest", minimum=0.0)
+           for k in GENERATED["dam"]}
+    if None in out.values():
+        return None
+    half = out["crest"] / 2 + max(out["upstream"], out["downstream"]) * out["height"]
+    if 2 * half >= out["foundation_width"]:
+        chk.add(f"{where}.foundation_width", f"must exceed the dam's base "
+                f"({out['crest'] + (out['upstream'] + out['downstream']) * out['height']:g})")
+        return None
+    return MeshSpec("dam", params=out)
+
+
+def read_regions(chk, tables):
+    if not tables:
+        chk.add("region", "at least one [[region]] table is required")
+    out, seen = [], set()
+    for i, tbl in enumerate(tables):
+        where = f"region[{i}]"
+        chk.unknown(tbl, REGION_KEYS, where)
+        name = chk.string(tbl, "name", where)
+        if name in seen:
+            chk.add(f"{where}.name", f"duplicate region {name!r}")
+        seen.add(name)
+        where = f"{where} ({name})"
+        rho = chk.number(tbl, "rho", where, positive=True)
+        lame = _lame(chk, tbl, where, rho)
+        damping = _pair(chk, tbl, "damping", where, ("alpha", "beta"), (0.0, 0.0))
+        mass = chk.string(tbl, "mass", where, required=False, default="averaged",
+                          choices=MASSES)
+        v0, u0 = (_vector(chk, tbl, key, where) for key in ("v0", "u0"))
+        parts = (name, rho, lame, damping, mass, v0, u0)
+        if None not in parts:
+            out.append(RegionSpec(name, *lame, rho, damping, mass, v0, u0))
+    return out
+
+
+def _lame(chk, tbl, where, rho):
+    """(lambda, mu) from E with nu, Vs with Vp, or Vs with nu."""
+    given = tuple(k for k in ("E", "nu", "Vs", "Vp") if k in tbl)
+    if given not in (("E", "nu"), ("Vs", "Vp"), ("nu", "Vs")):
+        chk.add(where, f"give E with nu, Vs with Vp, or Vs with nu (got {', '.join(given) or 'none'})")
+        return None
+    nu = chk.number(tbl, "nu", where, minimum=-0.999, maximum=0.4999) if "nu" in tbl else None
+    if "E" in tbl:
+        E = chk.number(tbl, "E", where, positive=True)
+        if None in (E, nu):
+            return None
+        return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+    vs = chk.number(tbl, "Vs", where, positive=True)
+    if vs is None or rho is None:
+        return None
+    mu = rho * vs * vs
+    if "Vp" in tbl:
+        vp = chk.number(tbl, "Vp", where, positive=True)
+        if vp is not None and vp <= 2 ** 0.5 * vs:
+            chk.add(f"{where}.Vp", f"must exceed sqrt(2) Vs = {2 ** 0.5 * vs:g} "
+                    f"(lambda > 0 ... a positive Poisson's ratio), got {vp:g}")
+            return None
+        return None if vp is None else (rho * vp * vp - 2 * mu, mu)
+    return None if nu is None else (2 * mu * nu / (1 - 2 * nu), mu)
+
+
+def _pair(chk, tbl, key, where, names, default):
+    val = tbl.get(key)
+    if val is None:
+        return default
+    if not isinstance(val, dict):
+        chk.add(f"{where}.{key}", f"must be a table {{{', '.join(names)}}}, got {show(val)}")
+        return None
+    chk.unknown(val, names, f"{where}.{key}")
+    got = [chk.number(val, n, f"{where}.{key}", required=False, default=0.0, minimum=0.0)
+           for n in names]
+    return None if None in got else tuple(got)
+
+
+def _vector(chk, tbl, key, where):
+    val = tbl.get(key, [0.0, 0.0])
+    if not (isinstance(val, list) and len(val) == 2 and all(map(is_number, val))):
+        chk.add(f"{where}.{key}", f"must be [x, y] (two numbers), got {show(val)}")
+        return None
+    return tuple(float(a) for a in val)
+
+
+def read_boundaries(chk, tables):
+    out, seen = [], set()
+    for i, tbl in enumerate(tables):
+        where = f"boundary[{i}]"
+        chk.unknown(tbl, BOUNDARY_KEYS, where)
+        name = chk.string(tbl, "name", where)
+        if name in seen:
+            chk.add(f"{where}.name", f"a second [[boundary]] on curve {name!r}")
+        seen.add(name)
+        where = f"{where} ({name})"
+        kind = chk.string(tbl, "type", where, choices=TYPES)
+        spec = None if kind is None else _boundary(chk, tbl, where, name, kind)
+        if name is not None and spec is not None:
+            out.append(spec)
+    return out
+
+
+def _boundary(chk, tbl, where, name, kind):
+    allowed = {"fixed": (), "velocity": ("value",), "traction": ("value",),
+               "absorbing": ("rock", "incident", "motion")}[kind]
+    for key in ("value", "rock", "incident", "motion"):
+        if key in tbl and key not in allowed:
+            chk.add(f"{where}.{key}", f"not a key of a {kind!r} boundary")
+            return None
+    if kind == "fixed":
+        return CurveSpec(name, kind, {c: History() for c in COMPONENTS})
+    if kind != "absorbing":
+        values = _components(chk, tbl, "value", where, required=True)
+        return None if values is None else CurveSpec(name, kind, values)
+    rock = _rock(chk, tbl.get("rock"), f"{where}.rock")
+    incident = _components(chk, tbl, "incident", where, required=False)
+    motion = chk.string(tbl, "motion", where, required=False, default="incident",
+                        choices=MOTIONS)
+    if rock is False or incident is None or motion is None:
+        return None
+    if motion == "outcrop":
+        if not incident:
+            chk.add(f"{where}.motion", "\"outcrop\" halves an incident record: give incident")
+            return None
+        incident = {c: h.scaled(0.5) for c, h in incident.items()}
+    return CurveSpec(name, kind, rock=rock, incident=incident)
+
+
+def _components(chk, tbl, key, where, required):
+    """{component: History} of a {x = ..., y = ...} table (None after
+    reporting; {} when absent and optional)."""
+    val = tbl.get(key)
+    name = f"{where}.{key}"
+    if val is None:
+        if required:
+            chk.add(name, "missing required key ({ x = HISTORY, y = HISTORY })")
+            return None
+        return {}
+    if not isinstance(val, dict) or not val:
+        chk.add(name, f"must be a table {{ x = HISTORY, y = HISTORY }}, got {show(val)}")
+        return None
+    chk.unknown(val, COMPONENTS, name)
+    out = {c: chk.history(val, c, name, "t", records=True) for c in COMPONENTS if c in val}
+    return None if None in out.values() else out
+
+
+def _rock(chk, val, where):
+    """(rho, Vp, Vs), None when absent, False after reporting."""
+    if val is None:
+        return None
+    if not isinstance(val, dict):
+        chk.add(where, f"must be a table {{ rho, Vs, Vp }}, got {show(val)}")
+        return False
+    chk.unknown(val, ("rho", "Vs", "Vp"), where)
+    got = [chk.number(val, k, where, positive=True) for k in ("rho", "Vp", "Vs")]
+    return False if None in got else tuple(got)
+
+
+def read_gauges(chk, tables):
+    out, seen = [], set()
+    for i, tbl in enumerate(tables):
+        where = f"gauge[{i}]"
+        chk.unknown(tbl, ("name", "x"), where)
+        name = chk.string(tbl, "name", where)
+        problem = None if name is None else name_problem(name)
+        if problem is None and name in seen:
+            problem = "duplicate name"
+        if problem:
+            chk.add(f"{where}.name", problem)
+            continue
+        seen.add(name)
+        x = _vector(chk, {"x": tbl.get("x")}, "x", where)
+        if name is not None and x is not None:
+            out.append(PlaneGauge(name, x))
+    return out
