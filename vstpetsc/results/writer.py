@@ -109,8 +109,8 @@ class GaugeStream:
 
     def truncate(self, rows):
         """Drop rows after the first ``rows`` (a restart from an earlier slab)."""
-        for dsid in self.ids:
-            dsid.set_extent((min(rows, self.n),))
+        for dsid, tail in zip(self.ids, self.tails):
+            dsid.set_extent((min(rows, self.n),) + tail)
         self.n = min(rows, self.n)
 
 
