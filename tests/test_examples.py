@@ -548,3 +548,80 @@ def test_info_balance_of_a_site_counts_hysteresis(results):
     e = r.energy
     assert terms["hysteretic"] == pytest.approx(e["hysteretic"][-1], rel=1e-3)
     assert sum(terms.values()) == pytest.approx(came, rel=1e-3)
+
+
+def test_plane_column_is_the_1d_shear_bar(results, tmp_path):
+    """plane-column against the 1-D solver's shear bar built from the
+    case's own data (G = rho Vs^2 of its region, area = the column's
+    width, the same incident table): the top's v_x every slab and the
+    energy terms to 1e-9 (measured 1e-14)."""
+    from conftest import bar, make_case
+
+    r = results["plane-column"]
+    case = r.case()
+    region, mesh = case.plane.regions[0], case.plane.mesh.params
+    (x0, x1), (y0, y1) = mesh["x"], mesh["y"]
+    wave = case.plane.boundaries[0].incident["x"]
+    line = make_case(case.dt, case.dt * case.nslabs,
+                     [bar("col", (0.0, y1 - y0), mesh["ny"], E=region.mu, rho=region.rho,
+                          area=x1 - x0)],
+                     bcs=[{"body": "col", "end": "left", "type": "absorbing",
+                           "incident": np.column_stack([wave.t, wave.f]).tolist()}])
+    one = solve(tmp_path, line, "line")
+    top = one.body("col").v[:, -1]
+    scale = np.abs(top).max()
+    assert scale > 0.3                          # the pulse doubles at the free top
+    assert np.abs(r.gauge("top").v[:, 0] - top).max() <= 1e-9 * scale
+    assert np.abs(r.gauge("top").v[:, 1]).max() == 0.0
+    largest = max(np.abs(one.energy[k]).max() for k in one.energy)
+    for key in ("kinetic", "strain", "damping", "external", "numerical"):
+        assert np.abs(r.energy[key] - one.energy[key]).max() <= 1e-9 * largest, key
+
+
+def modal_frequency(t, q, w0):
+    """The angular frequency w near w0 that best fits q(t) by
+    a cos(w t) + b sin(w t) (least squares in a, b for each w)."""
+    from scipy.optimize import minimize_scalar
+
+    def misfit(w):
+        basis = np.column_stack([np.cos(w * t), np.sin(w * t)])
+        coef = np.linalg.lstsq(basis, q, rcond=None)[0]
+        return float(np.sum((basis @ coef - q) ** 2))
+    return minimize_scalar(misfit, bounds=(0.98 * w0, 1.02 * w0), method="bounded",
+                           options={"xatol": 1e-10 * w0}).x
+
+
+def test_dam_modes_oscillate_at_the_eigenfrequencies(results):
+    """dam-modes: the run's modal coordinates q_i = phi_i^T M v (the
+    eigenvectors of the same M and K, assembled here from the mesh file
+    with the base held) of the three lowest modes that the horizontal
+    start excites oscillate at the eigenfrequencies to the accuracy of the
+    time scheme; the first is 0.91 times the shear-beam formula's."""
+    import scipy.linalg
+
+    from vstpetsc.plane import assembly
+    from vstpetsc.plane.dmplex import read_gmsh
+
+    r = results["dam-modes"]
+    case = r.case()
+    region = case.plane.regions[0]
+    mesh = read_gmsh(case.plane.mesh.file)
+    assert np.array_equal(mesh.coordinates, r.mesh.coordinates)     # the file's numbering
+    M, K = (a.toarray() for a in assembly.matrices(mesh, region.lam, region.mu, region.rho,
+                                                   region.mass))
+    held = (2 * mesh.curve_nodes("contact")[:, None] + np.arange(2)).ravel()
+    free = np.setdiff1d(np.arange(M.shape[0]), held)
+    w2, phi = scipy.linalg.eigh(K[np.ix_(free, free)], M[np.ix_(free, free)])
+    v = r.field.v.reshape(len(r.time), -1)[:, free]
+    q = v @ (M[np.ix_(free, free)] @ phi[:, :40])             # (nt, modes)
+    excited = np.flatnonzero(np.abs(q[1]) > 1e-3 * np.abs(q[1]).max())[:3]
+    t = r.time[1:]
+    errors = [modal_frequency(t, q[1:, i], np.sqrt(w2[i])) / np.sqrt(w2[i]) - 1
+              for i in excited]
+    f1 = np.sqrt(w2[excited[0]]) / (2 * np.pi)
+    beam = 2.404 * region.vs / (2 * np.pi * 40.0)
+    print("dam-modes: f =", np.sqrt(w2[excited]) / (2 * np.pi), "relative errors", errors,
+          "f1 / shear beam", f1 / beam)
+    # measured: 2.608, 3.953, 4.615 Hz within 4.6e-8, 3.9e-8, 6.2e-7 (dt = T_1 / 77)
+    assert len(excited) == 3 and max(map(abs, errors)) <= 1e-5, errors
+    assert 0.85 <= f1 / beam <= 0.95

@@ -12,9 +12,9 @@ import pytest
 
 import vstpetsc
 from conftest import bar, make_case, solve
-from test_plane_gmsh import write_gmsh22
 from test_plane_matrices import E, LAM, MU, NU, RHO
 from vstpetsc.plane import mesh as plane_mesh
+from vstpetsc.plane.gmsh_file import write_gmsh22
 
 WIDTH, HEIGHT, CELLS = 0.5, 3.0, 12
 END = 0.02

@@ -27,10 +27,11 @@ def text(name):
 
 
 def companions(name):
-    """Paths of the files a bundled case reads (``NAME-*.csv`` beside it)."""
+    """Paths of the files a bundled case reads (``NAME-*.csv`` records and
+    ``NAME-*.msh`` meshes beside it)."""
     path(name)
     return sorted(os.path.join(FOLDER, f) for f in os.listdir(FOLDER)
-                  if f.startswith(name + "-") and f.endswith(".csv"))
+                  if f.startswith(name + "-") and f.endswith((".csv", ".msh")))
 
 
 def description(name):
