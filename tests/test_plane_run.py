@@ -48,6 +48,7 @@ type = "absorbing"
 rock = {{ rho = 2400.0, Vs = 800.0, Vp = 1600.0 }}
 [gravity]
 g = -9.81
+initial = "static"
 [[gauge]]
 name = "crest"
 x = [0.0, 20.0]
@@ -66,6 +67,35 @@ def dam_case(tmp_path, end=0.2, name="dam"):
 def run_cli(*args):
     return subprocess.run([sys.executable, "-m", "vstpetsc", *map(str, args)],
                           capture_output=True, text=True, timeout=240)
+
+
+def test_a_static_start_is_the_exact_equilibrium(tmp_path):
+    """A column one cell wide under gravity (sides holding v_x), its base
+    absorbing: [gravity] initial = "static" solves K u = f with the base
+    held; u_y at the nodes is the exact rho g / (lambda + 2 mu) (H y -
+    y^2 / 2) (linear elements with the consistent load are exact at the
+    nodes), and the run, the base's reactions kept as forces, stays at
+    rest in it: v = 0 and u unchanged to rounding."""
+    H = 10.0
+    case = vstpetsc.Case.from_dict({
+        "time": {"dt": 1e-3, "end": 0.05},
+        "mesh": {"rectangle": {"x": [0.0, 1.0], "y": [0.0, H], "nx": 1, "ny": 10}},
+        "region": [{"name": "domain", "E": 2e8, "nu": 0.3, "rho": 1800.0}],
+        "boundary": [{"name": "bottom", "type": "absorbing"},
+                     {"name": "left", "type": "velocity", "value": {"x": 0.0}},
+                     {"name": "right", "type": "velocity", "value": {"x": 0.0}}],
+        "gravity": {"g": -9.81, "initial": "static"}})
+    r = solve(tmp_path, case)
+    region = case.plane.regions[0]
+    y = r.mesh.coordinates[:, 1]
+    exact = 1800.0 * -9.81 / (region.lam + 2 * region.mu) * (H * y - y * y / 2)
+    u = r.field.u
+    scale = np.abs(exact).max()
+    print("static start: u_y against exact", np.abs(u[0, :, 1] - exact).max() / scale,
+          "drift of u", np.abs(u - u[0]).max() / scale, "largest v", np.abs(r.field.v).max())
+    assert np.abs(u[0, :, 1] - exact).max() <= 1e-12 * scale
+    assert np.abs(u - u[0]).max() <= 1e-12 * scale
+    assert np.abs(r.field.v).max() <= 1e-12 * scale / case.dt
 
 
 def test_every_boundary_kind_keeps_the_energy_balance(tmp_path):
@@ -106,7 +136,7 @@ def test_every_boundary_kind_keeps_the_energy_balance(tmp_path):
 def test_the_dam_on_two_ranks_equals_one(tmp_path):
     """The dam (triangles on quadrilaterals, two regions, consistent and
     averaged masses, damping, absorbing sides, incident P and SV waves,
-    gravity, two gauges) by `mpirun -n 2 vstpetsc run`: every dataset
+    gravity from a static start, two gauges) by `mpirun -n 2 vstpetsc run`: every dataset
     within 1e-10 of its largest value of the one-rank run."""
     case = dam_case(tmp_path)
     one, two = tmp_path / "one.h5", tmp_path / "two.h5"
@@ -145,6 +175,7 @@ BAD = [
     ("Vp", "VP", "region[0] (domain).Vp: must exceed sqrt(2) Vs"),
     ("boundary key", "[[boundary]]\nname = 'top'\ntype = 'fixed'\nvalue = { x = 1.0 }\n",
      "boundary[0] (top).value: not a key of a 'fixed' boundary"),
+    ("static with u0", "U0", "gravity.initial: \"static\" computes the initial displacements"),
 ]
 
 
@@ -152,6 +183,9 @@ BAD = [
 def test_bad_inputs_exit_2_with_one_line(tmp_path, what, extra, message):
     region = "name = 'dam'" if what == "region name" else "name = 'domain'"
     speeds = "Vs = 200.0\nVp = 250.0" if extra == "VP" else "Vs = 200.0\nVp = 400.0"
+    if extra == "U0":
+        speeds += "\nu0 = [0.0, 1.0]"
+        extra = "[gravity]\ng = -9.81\ninitial = 'static'\n"
     mesh = "file = 'missing.msh'" if extra == "FILE" else \
         "rectangle = { x = [0.0, 4.0], y = [0.0, 2.0], nx = 2, ny = 1 }"
     text = (f"[time]\ndt = 1e-3\nend = 0.01\n[mesh]\n{mesh}\n[[region]]\n{region}\n{speeds}\n"

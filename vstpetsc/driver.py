@@ -182,10 +182,15 @@ class TimeLoop:
         from vstpetsc.plane.model import PlaneModel
         from vstpetsc.plane.solver import PlaneSolver
 
-        if case.gravity is not None and case.gravity.initial == "static":
-            raise InputError("gravity.initial: \"static\" is not built for plane strain yet")
         self.model = PlaneModel(case, comm)
-        self.loads = plane_loads(self.model, case.dt)
+        extra = ()
+        if case.gravity is not None and case.gravity.initial == "static":
+            from vstpetsc.plane.loads import gravity_pattern
+            from vstpetsc.plane.static import static_state
+
+            self.static = static_state(self.model, gravity_pattern(self.model))
+            extra = (self.static.reactions,)
+        self.loads = plane_loads(self.model, case.dt, extra)
         self.solver = PlaneSolver(self.model, case.dt, comm, self.loads)
         self.energy = RunEnergyBook(self.model, self.solver)
         return SolverOptions.read(self.model.nnodes, comm.getSize())
@@ -204,7 +209,9 @@ class TimeLoop:
             k0, rhs, envelopes = 0, None, None
             u, v = model.initial_state() if case.plane is not None else \
                 model_mod.initial_state(model)
-            if self.static is not None:
+            if self.static is not None and case.plane is not None:
+                u = u + self.static.u
+            elif self.static is not None:
                 u, v = u + self.static.u, v + self.static.v
             self.energy.start(u, v)
         energy0 = self.energy.held0

@@ -144,6 +144,10 @@ def _plane_parts(chk, doc, parts):
     """The rest of a plane-strain case's parts (no bodies, pairs, ends or soil)."""
     parts["gravity"] = read_gravity(chk, chk.table(doc, "gravity", "gravity", required=False),
                                     [])
+    moved = [r.name for r in parts["plane"].regions if any(r.u0)]
+    if parts["gravity"] is not None and parts["gravity"].initial == "static" and moved:
+        chk.add("gravity.initial", f"\"static\" computes the initial displacements; "
+                f"region {moved[0]!r} gives u0 as well")
     if chk.problems:
         raise CaseError(chk.problems)
     parts.update(bodies=[], contacts=[], bcs=[], soils=[], input_files=chk.inputs)

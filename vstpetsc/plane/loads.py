@@ -50,14 +50,20 @@ class PlaneLoads:
         return forces, velocities[i], None
 
 
-def plane_loads(model, dt):
+def gravity_pattern(model):
+    """The nodal pattern of a unit body force along +y: the mass matrix's
+    rows times the unit field along y (int rho N_a dA on y dofs)."""
+    M = model.matrices()[0]
+    return np.asarray(M[:, 1::2].sum(axis=1)).ravel()
+
+
+def plane_loads(model, dt, extra=()):
     """The PlaneLoads of a model: its boundaries' patterns and held dofs,
-    and gravity (a body force rho g along +y: the mass matrix's rows
-    times the unit field along y, g the [gravity] history)."""
-    terms = list(model.boundaries.patterns)
+    gravity (a body force rho g along +y, g the [gravity] history) and the
+    ``extra`` terms (a static start's reactions)."""
+    terms = list(model.boundaries.patterns) + list(extra)
     gravity = model.case.gravity
     if gravity is not None and not gravity.g.is_zero:
-        M = model.matrices()[0]
-        terms.append((np.asarray(M[:, 1::2].sum(axis=1)).ravel(), gravity.g))
+        terms.append((gravity_pattern(model), gravity.g))
     held, histories = model.boundaries.held_dofs()
     return PlaneLoads(terms, held, histories, dt, 2 * (model.local.stop - model.local.start))

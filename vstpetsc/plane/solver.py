@@ -56,7 +56,7 @@ class PlaneSolver:
         self.C = None if C is None else petsc_matrix(C, comm)
         # the unconstrained rows' product gives the reactions of moving held dofs
         self.A_free = None if loads.all_fixed else petsc_matrix(A, comm)
-        self.A = petsc_matrix(_identity_rows(A, self.rows, first), comm)
+        self.A = petsc_matrix(identity_rows(A, self.rows, 4 * first), comm)
         self.ksp = linear_solver(self.A, comm)
         self.x, self.b = self.A.createVecs()
         self.mv, self.ku = self.M.createVecs()
@@ -67,7 +67,7 @@ class PlaneSolver:
         self.sums = np.zeros(len(SUMS))
         self.forces = None
         self.restart = PlaneRestart(self)
-        self.to_rank0 = _gather_to_rank0(model, self.u_vec, comm)
+        self.to_rank0 = gather_to_rank0(model, comm)
 
     def describe(self):
         pc = self.ksp.getPC()
@@ -181,7 +181,7 @@ class PlaneSolver:
         if self.serial:
             nodes = np.asarray(nodes)
             return lambda: (self.u.reshape(-1, 2)[nodes], self.v.reshape(-1, 2)[nodes])
-        gather = _gather_to_rank0(self.model, self.u_vec, self.comm, nodes)
+        gather = gather_to_rank0(self.model, self.comm, nodes)
         return lambda: _pair(gather(self.u), gather(self.v))
 
 
@@ -189,18 +189,19 @@ def _pair(u, v):
     return None if u is None else (u.reshape(-1, 2), v.reshape(-1, 2))
 
 
-def _identity_rows(A, rows, first):
-    """A (CSR, owned rows) with ``rows`` made identities (held dofs)."""
+def identity_rows(A, rows, first):
+    """A (CSR, owned rows; global columns from ``first``) with ``rows``
+    made identities (held unknowns)."""
     import scipy.sparse as sp
 
     A = A.tolil() if rows.size else A
     if rows.size:
         A[rows, :] = 0.0
-        A[rows, 2 * 2 * first + rows] = 1.0
+        A[rows, first + rows] = 1.0
     return sp.csr_matrix(A)
 
 
-def _gather_to_rank0(model, template, comm, nodes=None):
+def gather_to_rank0(model, comm, nodes=None):
     """A callable taking this rank's owned values (2 a node, global order)
     and giving, on rank 0, those of every node (or of ``nodes``) in the
     mesh's numbering as read (None elsewhere): one PETSc scatter."""
@@ -218,7 +219,7 @@ def _gather_to_rank0(model, template, comm, nodes=None):
         total = 2 * len(nodes)
     rank0 = comm.getRank() == 0
     target = PETSc.Vec().createMPI((total if rank0 else 0, total), comm=comm)
-    source = template.duplicate()
+    source = PETSc.Vec().createMPI((2 * own.size, PETSc.DECIDE), comm=comm)
     scatter = PETSc.Scatter().create(
         source, PETSc.IS().createGeneral(gdof.ravel().astype(PETSc.IntType), comm=comm),
         target, PETSc.IS().createGeneral(odof.ravel().astype(PETSc.IntType), comm=comm))
