@@ -197,3 +197,24 @@ def test_bad_inputs_exit_2_with_one_line(tmp_path, what, extra, message):
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], p.stderr
     assert not (tmp_path / "bad.h5").exists()
+
+
+def test_a_sweep_of_a_plane_case(tmp_path):
+    """`vstpetsc sweep` over a 2-D case's region and boundary keys: every
+    run completes, and motion = "outcrop" (the record halved) gives a
+    quarter of the energies of the incident motion (a linear run)."""
+    import csv
+
+    from vstpetsc import bundled
+
+    p = run_cli("sweep", bundled.path("plane-column"), "--set", "region.domain.Vs=150,200",
+                "--set", "boundary.bottom.motion=incident,outcrop", "-o", tmp_path / "sw",
+                "--quiet")
+    assert p.returncode == 0, p.stderr
+    rows = list(csv.DictReader(open(tmp_path / "sw" / "summary.csv")))
+    assert [r["status"] for r in rows] == ["completed"] * 4
+    for incident, outcrop in ((rows[0], rows[1]), (rows[2], rows[3])):
+        a = vstpetsc.Result(tmp_path / "sw" / incident["file"]).energy
+        b = vstpetsc.Result(tmp_path / "sw" / outcrop["file"]).energy
+        for key in ("kinetic", "external", "damping"):
+            assert np.allclose(b[key], 0.25 * a[key], rtol=1e-12, atol=1e-12 * a[key].max())
