@@ -14,4 +14,7 @@ import them from here.
 - smith.py: Smith's (1960) explicit lumped-mass pile-driving algorithm;
 - waves.py: the standing wave, the bar's impact on a wall and a soil
   layer's site response, with their exact solutions (issue 26).
+- lamb.py: Lamb's problem in plane strain, the surface motion of a
+  half-space under a vertical line load, closed form (Cagniard-de Hoop)
+  and by wavenumber-frequency integration, with the Rayleigh speed.
 """
