@@ -1,14 +1,14 @@
 """The linear solve of a plane-strain slab (issue 37: choose the default by
 measurement): the slab matrix [A] = HM (x) M + dt HC (x) C + dt^2 HK (x) K
 of a rectangle of quadrilaterals (averaged mass, c dt / h = 1 for the P
-wave: the Courant numbers people run), factored by PETSc's LU (nested
+wave by default, `--courant 1,4,16` for others), factored by PETSc's LU (nested
 dissection) and by the external direct solvers Debian's PETSc has, and
 solved by GMRES preconditioned by block Jacobi with ILU(0) (the slab
 matrix is mass-dominated at these Courant numbers).  One rank; set-up
 (factorisation) and one solve, min / median of REPEATS solves, in one
 process, interleaved.
 
-    .venv/bin/python bench/plane_solvers.py [CELLS ...]
+    .venv/bin/python bench/plane_solvers.py [CELLS ...] [--courant 1,4,16]
 """
 
 import statistics
@@ -31,13 +31,13 @@ SOLVERS = {
 }
 
 
-def slab_matrix(cells):
+def slab_matrix(cells, courant=1.0):
     n = int(round(np.sqrt(cells)))
     m = plane_mesh.rectangle((0.0, float(n)), (0.0, float(n)), n, n)
     lam, mu = elements.lame(2.0e8, 0.3)
     M, K = assembly.matrices(m, lam, mu, 2000.0, "averaged")
     vp = np.sqrt((lam + 2 * mu) / 2000.0)
-    A = slab.sparse_slab_matrix(M, None, K, 1.0 / vp)
+    A = slab.sparse_slab_matrix(M, None, K, courant / vp)      # h = 1
     return assembly.petsc_matrix(A), m.ncells
 
 
@@ -69,17 +69,25 @@ def measure(A, options):
     return setup, min(times), statistics.median(times), r.norm() / b.norm(), ksp.getIterationNumber()
 
 
-def main(sizes=(10000, 100000)):
-    print("| cells | unknowns | solver | set-up s | solve ms, min | median | relative residual "
-          "| iterations |")
-    print("|---|---|---|---|---|---|---|---|")
+def main(sizes=(10000, 100000), courants=(1.0,)):
+    print("| cells | unknowns | c dt / h | solver | set-up s | solve ms, min | median | "
+          "relative residual | iterations |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for cells in sizes:
-        A, ncells = slab_matrix(cells)
-        for name, options in SOLVERS.items():
-            setup, lo, med, res, its = measure(A, options)
-            print(f"| {ncells} | {A.getSize()[0]} | {name} | {setup:.3f} | {1e3 * lo:.2f} | "
-                  f"{1e3 * med:.2f} | {res:.1e} | {its} |", flush=True)
+        for courant in courants:
+            A, ncells = slab_matrix(cells, courant)
+            for name, options in SOLVERS.items():
+                setup, lo, med, res, its = measure(A, options)
+                print(f"| {ncells} | {A.getSize()[0]} | {courant:g} | {name} | {setup:.3f} | "
+                      f"{1e3 * lo:.2f} | {1e3 * med:.2f} | {res:.1e} | {its} |", flush=True)
 
 
 if __name__ == "__main__":
-    main(*([int(a) for a in sys.argv[1:]],) if len(sys.argv) > 1 else ())
+    # CELLS ... [--courant C,C,...]
+    args = sys.argv[1:]
+    courants = (1.0,)
+    if "--courant" in args:
+        i = args.index("--courant")
+        courants = tuple(float(c) for c in args[i + 1].split(","))
+        del args[i:i + 2]
+    main(*([int(float(a)) for a in args],) if args else (), courants=courants)

@@ -374,14 +374,70 @@ def _site_figure(case, runs):
     plt.close(fig)
 
 
+def _plane_column(f, result):
+    """Key numbers of plane-column: the top's peak and the balance."""
+    top = result.gauge("top").v[:, 0]
+    e = f["energy"]
+    return (f"peak v_x at the top {np.abs(top).max():.4f} m/s (the incident 0.2 m/s "
+            f"doubled at the free surface); numerical energy {e['numerical'][-1]:.3g} J of "
+            f"{e['external'][:].max():.4g} J put in")
+
+
+def _dam_modes(f, result):
+    """Key numbers of dam-modes: the crest's peak and the energy the time
+    scheme took from the high modes."""
+    crest = result.gauge("crest").v
+    e = f["energy"]
+    held = e["kinetic"][0] + e["strain"][0]
+    return (f"peak crest v_x {np.abs(crest[:, 0]).max():.3f} m/s, v_y "
+            f"{np.abs(crest[:, 1]).max():.3f} m/s; numerical dissipation "
+            f"{100 * e['numerical'][-1] / held:.1f} % of the initial energy")
+
+
+def _lamb(f, result):
+    """The lamb figure: the surface velocity at the three gauges against the
+    closed form (tests/references/lamb.py), and the largest differences."""
+    import matplotlib.pyplot as plt
+
+    sys.path.insert(0, os.path.join(HERE, "..", "tests"))
+    from references import lamb
+
+    region = result.case().plane.regions[0]
+    force = lamb.ricker_pulse(2.0, 1.0e4, delay=0.6)
+    fig, axes = plt.subplots(2, 1, figsize=(9, 7), sharex=True, constrained_layout=True)
+    worst = 0.0
+    for name in result.gauges:
+        g = result.gauge(name)
+        x, t = float(g.attrs["x"][0]), g.time
+        exact = lamb.surface_velocity(np.array([x]), t, force, region.rho, region.vp,
+                                      region.vs)
+        for c, ax in enumerate(axes):
+            line, = ax.plot(t, 1e3 * g.v[:, c], lw=1.0, label=f"vstpetsc, x = {x:g} m")
+            ax.plot(t, 1e3 * exact[c][0], "k:", lw=1.0)
+            worst = max(worst, np.abs(g.v[:, c] - exact[c][0]).max()
+                        / np.abs(exact[c][0]).max())
+    for c, ax in enumerate(axes):
+        ax.set_ylabel(f"surface v_{'xy'[c]} [mm/s]")
+        ax.legend(fontsize=8, title="dotted: closed form (Lamb 1904)")
+    axes[1].set_xlabel("t [s]")
+    axes[0].set_title("Lamb's problem: surface velocity under a 2 Hz Ricker line load",
+                      fontsize=10)
+    fig.savefig(os.path.join(HERE, "figures", "lamb-surface.png"), dpi=110)
+    plt.close(fig)
+    return (f"largest difference from the closed form {100 * worst:.1f} % of a trace's peak"
+            "\n\n![lamb surface velocity](figures/lamb-surface.png)")
+
+
 KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "periodic-impacts": _periodic, "layered": _layered, "wave": _wave,
        "site-response": _site, "uplift": _uplift, "drop": _drop, "pile": _pile,
        "bouncing-bar": _bouncing, "sliding-block": _sliding_block,
        "dam-interface": _dam_interface, "nonlinear-site": _nonlinear_site,
-       "rockfill-column": _rockfill_column}
+       "rockfill-column": _rockfill_column, "plane-column": _plane_column,
+       "dam-modes": _dam_modes, "lamb": _lamb}
 NEEDS_RESULT = {"nonlinear-site", "site-response", "uplift", "drop", "pile", "bouncing-bar",
-                "sliding-block", "dam-interface", "rockfill-column"}
+                "sliding-block", "dam-interface", "rockfill-column", "plane-column",
+                "dam-modes", "lamb"}
 
 
 def main(only=None):

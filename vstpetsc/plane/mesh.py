@@ -68,6 +68,17 @@ class PlaneMesh:
         return PlaneMesh(self.coordinates[used], renumbered,
                          np.zeros(len(cells), dtype=int), (name,), curves)
 
+    def split_curve(self, curve, name, inside):
+        """The mesh with the edges of ``curve`` whose both nodes satisfy
+        ``inside(x, y)`` moved to a new curve ``name`` (a load's patch on a
+        surface, for instance); the rest keep ``curve``'s name."""
+        edges = self.curves[curve]
+        xy = self.coordinates[edges]
+        mine = inside(xy[..., 0], xy[..., 1]).all(axis=1)
+        curves = {k: v for k, v in self.curves.items() if k != curve}
+        curves[curve], curves[name] = edges[~mine], edges[mine]
+        return PlaneMesh(self.coordinates, self.cells, self.region, self.region_names, curves)
+
     def areas(self):
         """(ne,) cell areas (shoelace; positive for counter-clockwise cells)."""
         n = np.where(self.cells < 0, self.cells[:, [2]], self.cells)   # a triangle repeats a node
