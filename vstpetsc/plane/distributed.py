@@ -98,6 +98,11 @@ def distribute(mesh, comm, overlap=1, names=None):
     elsewhere) with DMPlex's partition; ``names``: the regions' and the
     curves' names (every rank's; default rank 0's mesh's, broadcast)."""
     rank = comm.getRank()
+    if comm.getSize() == 1:        # nothing to distribute: the mesh as it is
+        every = np.arange(mesh.nnodes)
+        return LocalMesh(mesh, every, np.ones(mesh.nnodes, dtype=bool),
+                         np.ones(mesh.ncells, dtype=bool), 0, mesh.nnodes, mesh.nnodes, comm,
+                         every)
     if names is None:
         names = comm.tompi4py().bcast(
             (mesh.region_names, tuple(mesh.curves)) if rank == 0 else None, root=0)

@@ -117,6 +117,11 @@ class PlaneModel:
             self._matrices = self._assemble()
         return self._matrices
 
+    def release_matrices(self):
+        """Forget the assembled CSR matrices (the solver holds PETSc's
+        copies; at 1e6 cells they are 1.3 GB)."""
+        self._matrices = None
+
     def _assemble(self):
         local, mat = self.local, self.materials
         parts = assembly.element_matrices(local.mesh, mat["lam"], mat["mu"], mat["rho"])

@@ -57,6 +57,8 @@ class PlaneSolver:
         # the unconstrained rows' product gives the reactions of moving held dofs
         self.A_free = None if loads.all_fixed else petsc_matrix(A, comm)
         self.A = petsc_matrix(identity_rows(A, self.rows, 4 * first), comm)
+        del A
+        model.release_matrices()
         self.ksp = linear_solver(self.A, comm)
         self.x, self.b = self.A.createVecs()
         self.mv, self.ku = self.M.createVecs()
