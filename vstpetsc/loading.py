@@ -15,6 +15,24 @@ from vstpetsc.laws.base import FieldLoad
 BLOCK = 1024          # slabs evaluated at a time
 
 
+class Blocks:
+    """Per-slab arrays evaluated BLOCK slabs at a time by ``evaluate(k0,
+    k1)`` (slabs k0+1 .. k1): :meth:`at` gives the block holding slab k and
+    k's row in it."""
+
+    def __init__(self, evaluate):
+        self.evaluate = evaluate
+        self.block = (0, 0, None)          # (first slab - 1, last slab, arrays)
+
+    def at(self, k):
+        k0, k1, arrays = self.block
+        if not k0 < k <= k1:
+            k0, k1 = k - 1, k - 1 + BLOCK
+            arrays = self.evaluate(k0, k1)
+            self.block = (k0, k1, arrays)
+        return arrays, k - k0 - 1
+
+
 class SlabLoads:
     """``SlabLoads(laws, dt).slab(k)`` gives, for slab k ((k-1) dt, k dt]:
 
@@ -37,7 +55,7 @@ class SlabLoads:
         self.force_nodes, self.force_slot = np.unique(nodes, return_inverse=True)
         self.fixed_nodes = np.array([c.node for c in self.constraints], dtype=int)
         self.all_fixed = all(c.history is None for c in self.constraints)
-        self.block = (0, 0, None)          # (first slab - 1, last slab, arrays)
+        self.blocks = Blocks(self._evaluate)
 
     def _evaluate(self, k0, k1):
         """(forces (K, n, 2), velocities (K, m, 2), fields (K, f, 2)) of
@@ -59,13 +77,7 @@ class SlabLoads:
 
     def slab(self, k):
         """((force nodes, values), (constrained nodes, values), fields) of slab k."""
-        k0, k1, arrays = self.block
-        if not k0 < k <= k1:
-            k0, k1 = k - 1, k - 1 + BLOCK
-            arrays = self._evaluate(k0, k1)
-            self.block = (k0, k1, arrays)
-        i = k - k0 - 1
-        forces, velocities, fields = arrays
+        (forces, velocities, fields), i = self.blocks.at(k)
         return ((self.force_nodes, forces[i]), (self.fixed_nodes, velocities[i]), fields[i])
 
     def __call__(self, t0, t1):

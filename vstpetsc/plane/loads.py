@@ -8,7 +8,7 @@ Pure numpy and scipy."""
 import numpy as np
 import scipy.sparse as sp
 
-from vstpetsc.loading import BLOCK
+from vstpetsc.loading import Blocks
 
 
 class PlaneLoads:
@@ -24,7 +24,7 @@ class PlaneLoads:
         self.held = np.asarray(held, dtype=int)
         self.moving = [(i, h) for i, h in enumerate(held_histories) if h is not None]
         self.all_fixed = not self.moving
-        self.block = (0, 0, None)
+        self.blocks = Blocks(self._evaluate)
 
     def _evaluate(self, k0, k1):
         count, dt = k1 - k0, self.dt
@@ -39,13 +39,7 @@ class PlaneLoads:
         return integrals, velocities
 
     def slab(self, k):
-        k0, k1, arrays = self.block
-        if not k0 < k <= k1:
-            k0, k1 = k - 1, k - 1 + BLOCK
-            arrays = self._evaluate(k0, k1)
-            self.block = (k0, k1, arrays)
-        integrals, velocities = arrays
-        i = k - k0 - 1
+        (integrals, velocities), i = self.blocks.at(k)
         forces = self.patterns @ integrals[i] if self.histories else None
         return forces, velocities[i], None
 

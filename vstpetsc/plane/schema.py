@@ -161,18 +161,24 @@ def _dam(chk, p, where):
     return MeshSpec("dam", params=out)
 
 
+def _named(chk, tbl, kind, i, keys, seen, twice):
+    """(name, where to report) of table i of [[kind]] after checking its
+    keys and that no earlier table had its name (``twice``: the message)."""
+    where = f"{kind}[{i}]"
+    chk.unknown(tbl, keys, where)
+    name = chk.string(tbl, "name", where)
+    if name in seen:
+        chk.add(f"{where}.name", f"{twice} {name!r}")
+    seen.add(name)
+    return name, f"{where} ({name})"
+
+
 def read_regions(chk, tables):
     if not tables:
         chk.add("region", "at least one [[region]] table is required")
     out, seen = [], set()
     for i, tbl in enumerate(tables):
-        where = f"region[{i}]"
-        chk.unknown(tbl, REGION_KEYS, where)
-        name = chk.string(tbl, "name", where)
-        if name in seen:
-            chk.add(f"{where}.name", f"duplicate region {name!r}")
-        seen.add(name)
-        where = f"{where} ({name})"
+        name, where = _named(chk, tbl, "region", i, REGION_KEYS, seen, "duplicate region")
         rho = chk.number(tbl, "rho", where, positive=True)
         lame = _lame(chk, tbl, where, rho)
         damping = _pair(chk, tbl, "damping", where, ("alpha", "beta"), (0.0, 0.0))
@@ -235,13 +241,8 @@ def _vector(chk, tbl, key, where):
 def read_boundaries(chk, tables):
     out, seen = [], set()
     for i, tbl in enumerate(tables):
-        where = f"boundary[{i}]"
-        chk.unknown(tbl, BOUNDARY_KEYS, where)
-        name = chk.string(tbl, "name", where)
-        if name in seen:
-            chk.add(f"{where}.name", f"a second [[boundary]] on curve {name!r}")
-        seen.add(name)
-        where = f"{where} ({name})"
+        name, where = _named(chk, tbl, "boundary", i, BOUNDARY_KEYS, seen,
+                             "a second [[boundary]] on curve")
         kind = chk.string(tbl, "type", where, choices=TYPES)
         spec = None if kind is None else _boundary(chk, tbl, where, name, kind)
         if name is not None and spec is not None:
