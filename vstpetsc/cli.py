@@ -15,17 +15,20 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
                     [--restart RESULT.h5] [PETSc options ...]
        vstpetsc example [NAME [-o CASE.toml]]   list the bundled cases, or write one
        vstpetsc info RESULT.h5                   one-screen summary of a result
-       vstpetsc plot RESULT.h5 [-o FIGURE.png]   velocity map and what the case has
+       vstpetsc plot RESULT.h5 [-o FIGURE.png] [--times T1,T2]
+                                                 velocity map and what the case has; 2-D: the
+                                                 deformed mesh by speed at T1, T2, gauges, energy
        vstpetsc sweep CASE.toml --set KEY=V1,V2,... [--set ...] [-o DIR] [--quiet]
                     [--ranks-per-run K] [PETSc options ...]   a run per combination, DIR/summary.csv
        vstpetsc plot DIR/summary.csv [--x KEY] [--y QUANTITY] [-o FIGURE.png]
        vstpetsc export RESULT.h5 [--csv DIR] [--xdmf]
                                                  time series as CSV files in DIR; RESULT.xdmf
-                                                 (u, v, stress over time) for ParaView
-       vstpetsc spectrum RESULT.h5 --gauge NAME [--component shear|axial] [--damping 0.05]
+                                                 (u, v, stress over time, 1-D or 2-D) for ParaView
+       vstpetsc spectrum RESULT.h5 --gauge NAME [--component shear|axial|x|y] [--damping 0.05]
                     [--periods A:B:N] [--csv FILE] [-o FIGURE.png]   response spectrum
-       vstpetsc transfer RESULT.h5 --from NAME --to NAME [--component shear|axial]
+       vstpetsc transfer RESULT.h5 --from NAME --to NAME [--component shear|axial|x|y]
                     [--smooth B] [--csv FILE] [-o FIGURE.png]   Fourier amplitude ratio
+                                                 (x|y: a 2-D result's gauges, x by default)
        vstpetsc --version"""
 
 EXIT_BAD_INPUT = 2
@@ -306,13 +309,37 @@ def _figure(opts, source):
 def _plot(rest):
     if any(tok.endswith(".csv") for tok in rest if not tok.startswith("-")):
         return _plot_sweep(rest)
-    opts = parse_options(rest, ["result"])
+    opts = parse_options(rest, ["result"], valued=("-o", "--output", "--times"))
     result = _result(opts, "plot")
+    times = _plot_times(opts["times"], result)
     out = _figure(opts, result.path)
     from vstpetsc.results.plot import plot_result
-    plot_result(result, out)
+    plot_result(result, out, times=times)
     print(f"wrote {out}")
     return 0
+
+
+def _plot_times(text, result):
+    """--times T1,T2,...: the kept times of a 2-D result's mesh panels
+    (None when not given)."""
+    import numpy as np
+
+    from vstpetsc.results.plane_plot import times_problem
+
+    if text is None:
+        return None
+    if result.dimension != 2:
+        raise UsageError("--times: only for a 2-D result (a 1-D figure shows every time)")
+    try:
+        times = [float(word) for word in text.split(",")]
+    except ValueError:
+        times = [np.nan]
+    if not np.all(np.isfinite(times)):
+        raise UsageError(f"--times: numbers separated by commas, got {text!r}")
+    why = times_problem(result.time, times)
+    if why:
+        raise UsageError(f"--times: {why}")
+    return times
 
 
 def _export(rest):
@@ -406,18 +433,33 @@ def _gauge(result, opts, key):
     return result.gauge(name)
 
 
-def _component(opts, gauges):
-    """--component, by default shear when every gauge's body has one."""
+def _component(opts, gauges, result):
+    """--component: x or y on a 2-D result (x by default); shear or axial
+    on a 1-D one, by default shear when every gauge's body has one."""
     from vstpetsc.results import seismic
 
+    if result.dimension == 2:
+        return _plane_component(opts["component"])
     everywhere = all(seismic.has_shear(g) for g in gauges)
     component = opts["component"] or ("shear" if everywhere else "axial")
     if component not in seismic.COMPONENTS:
-        raise UsageError(f"--component: shear or axial, got {component!r}")
+        plane = " (x and y name a 2-D result's components)" \
+            if component in seismic.PLANE_COMPONENTS else ""
+        raise UsageError(f"--component: shear or axial, got {component!r}{plane}")
     for g in gauges:
         if component == "shear" and not seismic.has_shear(g):
             raise UsageError(f"--component: gauge {g.name!r} has no shear component (its "
                              f"body {g.attrs['body']!r} has no G or Vs)")
+    return component
+
+
+def _plane_component(component):
+    """--component of a plane-strain gauge: the column of its (v_x, v_y)."""
+    from vstpetsc.results import seismic
+
+    component = component or seismic.PLANE_COMPONENTS[0]
+    if component not in seismic.PLANE_COMPONENTS:
+        raise UsageError(f"--component: x or y for a 2-D result, got {component!r}")
     return component
 
 
@@ -487,7 +529,7 @@ def _spectrum(rest):
     opts = parse_options(rest, ["result"], valued=SEISMIC + ("--gauge", "--damping", "--periods"))
     result = _result(opts, "spectrum")
     gauge = _gauge(result, opts, "gauge")
-    component = _component(opts, [gauge])
+    component = _component(opts, [gauge], result)
     damping = _number(opts, "damping", damping_problem, 0.05)
     periods = _periods(opts["periods"])
     acc = seismic.gauge_acceleration(gauge, component)
@@ -505,7 +547,7 @@ def _transfer(rest):
     opts = parse_options(rest, ["result"], valued=SEISMIC + ("--from", "--to", "--smooth"))
     result = _result(opts, "transfer")
     lower, upper = _gauge(result, opts, "from"), _gauge(result, opts, "to")
-    component = _component(opts, [lower, upper])
+    component = _component(opts, [lower, upper], result)
     smooth = _number(opts, "smooth", bandwidth_problem)
     records = [seismic.gauge_acceleration(g, component) for g in (lower, upper)]
     freq, amp = transfer_function(*records, lower.dt, smooth)

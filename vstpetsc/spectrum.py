@@ -117,12 +117,16 @@ def response_spectrum(acc, dt, periods=None, damping=0.05):
 
 
 def acceleration(v, dt):
-    """The derivative of slab-end velocities ``v`` (dt apart): central
-    differences, (v1 - v0) / dt and (v_n - v_{n-1}) / dt at the ends."""
+    """The derivative of slab-end velocities ``v`` (dt apart; (n,), or
+    (n, k) for k components such as a plane-strain gauge's v_x, v_y: each
+    column on its own, along axis 0): central differences, (v1 - v0) / dt
+    and (v_n - v_{n-1}) / dt at the ends."""
     v = np.asarray(v, dtype=float)
-    if v.size < 2:
-        return np.zeros(v.size)
-    out = np.empty(v.size)
+    if v.ndim == 0:                       # one sample given as a number
+        v = v.reshape(1)
+    if v.shape[0] < 2:
+        return np.zeros(v.shape)
+    out = np.empty(v.shape)
     out[1:-1] = (v[2:] - v[:-2]) / (2.0 * dt)
     out[0] = (v[1] - v[0]) / dt
     out[-1] = (v[-1] - v[-2]) / dt

@@ -6,7 +6,8 @@ bit):
 
 - ``gauge.csv``: ``time`` and ``<gauge>.u``, ``.v``, ``.stress``,
   ``.strain`` of every gauge (and ``.shear_u``, ... on a body with a shear
-  component), a row per slab;
+  component), a row per slab; a plane-strain gauge's ``<gauge>.u_x``,
+  ``.u_y``, ``.v_x``, ``.v_y``;
 - ``contact-<k>.csv`` (and one per other law group that reports, its path
   with ``-`` for ``/``), ``energy.csv``, ``solver.csv``: ``time`` and the
   group's one-value series, a row per kept slab (a series with a value per
@@ -25,6 +26,16 @@ index costs kilobytes whatever the run's size.  meshio's XDMF writer was
 not used: it copies every array into a new HDF5 file named after the XDMF
 file (here the result file itself), and its reader does not resolve
 hyperslabs; the test checks the index against the HDF5 datasets instead.
+
+A plane-strain result's XDMF is one temporal collection, ``mesh``: the
+geometry (x, y) is /mesh/coordinates, the cells /mesh/cells (all
+quadrilaterals) or its first three columns (all triangles) by reference,
+or, for a mix, a Mixed topology written inline (the one copy: the two
+kinds interleave in the file); ``region`` (cells) is /mesh/region; u, v
+(nodes, 2 components) and stress (cells, 3 components: sigma_xx,
+sigma_yy, sigma_xy) of each kept time are hyperslabs of /field.
+tests/test_plane_outputs.py opens it with VTK's vtkXdmfReader (ParaView's
+XDMF reader) and finds the datasets bit for bit.
 """
 
 import os
@@ -33,10 +44,14 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from vstpetsc.gauges import SERIES as GAUGE_SERIES, SHEAR
-from vstpetsc.results import layout
+from vstpetsc.results import layout, plane_layout
 
 KEPT_GROUPS = ("energy", "solver")
 SHEAR_GROUP = "shear"       # /body/<name>/shear: the shear component's datasets
+PLANE_GRID = "mesh"         # the name of a plane-strain result's temporal collection
+PLANE_FIELDS = (("u", "Node"), ("v", "Node"), ("stress", "Cell"))
+XDMF_TRIANGLE, XDMF_QUADRILATERAL = 4, 5     # XDMF's codes of cells in a Mixed topology
+PLANE_AXES = ("x", "y")     # the columns of a plane-strain gauge's u and v
 
 
 def _write_csv(path, columns):
@@ -69,7 +84,8 @@ def to_csv(result, folder):
             g = result.gauge(name)
             keys = [p + key for p in ("", SHEAR) for key in GAUGE_SERIES
                     if p + key in g.keys()]
-            columns.update((f"{name}.{key}", g[key]) for key in keys)
+            for key in keys:
+                columns.update(_gauge_columns(f"{name}.{key}", g[key]))
         paths.append(_write_csv(os.path.join(folder, "gauge.csv"), columns))
     for group in law_groups(result) + list(KEPT_GROUPS):
         columns = {"time": result.time, **result.series(group)}
@@ -84,6 +100,14 @@ def to_csv(result, folder):
                 "x_left": x[:-1], "x_right": x[1:], "stress_min": b.stress_min,
                 "stress_max": b.stress_max}))
     return paths
+
+
+def _gauge_columns(header, values):
+    """{header: values} of a gauge's series on a line; a plane-strain
+    gauge's (n, 2) series as two columns, ``header``_x and ``header``_y."""
+    if np.ndim(values) == 1:
+        return {header: values}
+    return {f"{header}_{axis}": values[:, k] for k, axis in enumerate(PLANE_AXES)}
 
 
 def _events_csv(result, folder):
@@ -102,12 +126,29 @@ def _numbers(values, fmt):
     return " ".join(fmt % v for v in np.ravel(values))
 
 
-def _slab(h5, dataset, row, rows, width):
-    """A DataItem of row ``row`` of the (rows, width) dataset of ``h5``."""
-    return (f'<DataItem ItemType="HyperSlab" Dimensions="1 {width}" Type="HyperSlab">'
-            f'<DataItem Dimensions="3 2" Format="XML">{row} 0 1 1 1 {width}</DataItem>'
-            f'<DataItem Dimensions="{rows} {width}" NumberType="Float" Precision="8" '
-            f'Format="HDF">{h5}:/{dataset}</DataItem></DataItem>')
+def _slab(h5, dataset, row, shape):
+    """A DataItem of row ``row`` of the float dataset of ``h5`` of ``shape``
+    (rows first: (rows, width) on a line, (rows, nn, 2) in the plane)."""
+    return _hyperslab(h5, dataset, shape, [row] + [0] * (len(shape) - 1), (1, *shape[1:]))
+
+
+def _hyperslab(h5, dataset, shape, start, count, dtype=np.float64):
+    """A DataItem of the block ``count`` from ``start`` of the dataset of
+    ``h5`` of ``shape``."""
+    corner = list(start) + [1] * len(shape) + list(count)
+    return (f'<DataItem ItemType="HyperSlab" Dimensions="{_numbers(count, "%d")}" '
+            'Type="HyperSlab">'
+            f'<DataItem Dimensions="3 {len(shape)}" Format="XML">{_numbers(corner, "%d")}'
+            f'</DataItem>{_hdf(h5, dataset, shape, dtype)}</DataItem>')
+
+
+def _hdf(h5, dataset, shape, dtype=np.float64):
+    """A DataItem of the whole dataset of ``h5`` of ``shape`` and numpy
+    ``dtype`` (the file's floats and integers are 8 bytes)."""
+    dtype = np.dtype(dtype)
+    number = "Int" if dtype.kind in "iu" else "Float"
+    return (f'<DataItem Dimensions="{_numbers(shape, "%d")}" NumberType="{number}" '
+            f'Precision="{dtype.itemsize}" Format="HDF">{h5}:/{dataset}</DataItem>')
 
 
 def body_fields(result, body):
@@ -143,7 +184,68 @@ def _body_grids(result, body, h5):
         for name, key, center in fields:
             width = nn if center == "Node" else ne
             lines.append(f'<Attribute Name="{name}" AttributeType="Scalar" Center="{center}">'
-                         + _slab(h5, layout.body_path(body, key), i, times.size, width)
+                         + _slab(h5, layout.body_path(body, key), i, (times.size, width))
+                         + "</Attribute>")
+        lines.append("</Grid>")
+    return lines + ["</Grid>"]
+
+
+def plane_topology(cells, h5):
+    """The Topology of a plane-strain mesh (``cells`` (ne, 4), -1 pads a
+    triangle): the file's own /mesh/cells when every cell is a
+    quadrilateral, its first three columns when every one is a triangle,
+    else a Mixed list inline (each cell's XDMF code, then its nodes):
+    triangles and quadrilaterals interleave in the file, so no hyperslab
+    picks either kind."""
+    ne = len(cells)
+    triangle = cells[:, 3] < 0
+    path = f"{plane_layout.MESH}/cells"
+    if not triangle.any():
+        kind, item = "Quadrilateral", _hdf(h5, path, cells.shape, cells.dtype)
+    elif triangle.all():
+        kind, item = "Triangle", _hyperslab(h5, path, cells.shape, (0, 0), (ne, 3), cells.dtype)
+    else:
+        codes = np.where(triangle, XDMF_TRIANGLE, XDMF_QUADRILATERAL)
+        listed = np.c_[codes, cells][np.c_[np.ones((ne, 4), bool), ~triangle]]
+        kind = "Mixed"
+        item = (f'<DataItem Dimensions="{listed.size}" NumberType="Int" Format="XML">'
+                f'{_numbers(listed, "%d")}</DataItem>')
+    return f'<Topology TopologyType="{kind}" NumberOfElements="{ne}">{item}</Topology>'
+
+
+def _plane_mesh(result, h5):
+    """(XML, nodes, cells) of a plane-strain result's mesh: the XML its
+    Topology, its Geometry (x, y: /mesh/coordinates) and the cells' region
+    index (/mesh/region) as a cell attribute, all but a Mixed list by
+    reference."""
+    mesh = result.mesh
+    coordinates, cells, region = mesh.coordinates, mesh.cells, mesh.region
+    return (plane_topology(cells, h5)
+            + f'<Geometry GeometryType="XY">'
+            f'{_hdf(h5, f"{plane_layout.MESH}/coordinates", coordinates.shape)}</Geometry>'
+            '<Attribute Name="region" AttributeType="Scalar" Center="Cell">'
+            f'{_hdf(h5, f"{plane_layout.MESH}/region", region.shape, region.dtype)}'
+            '</Attribute>'), len(coordinates), len(cells)
+
+
+def _plane_grids(result, h5):
+    """The XML lines of a plane-strain result's temporal collection: the
+    mesh in the first step, included by the others; u, v (nodes, x and y)
+    and stress (cells: sigma_xx, sigma_yy, sigma_xy) of each kept time by
+    hyperslab into /field."""
+    mesh, nn, ne = _plane_mesh(result, h5)
+    times = result.time
+    shapes = {"Node": (times.size, nn, 2), "Cell": (times.size, ne, 3)}
+    first = f"{PLANE_GRID}-0"
+    shared = (f'<xi:include xpointer="xpointer(//Grid[@Name=\'{first}\']/*[self::Topology or '
+              'self::Geometry or self::Attribute[@Name=\'region\']])"/>')
+    lines = [f'<Grid Name="{PLANE_GRID}" GridType="Collection" CollectionType="Temporal">']
+    for i, t in enumerate(times):
+        lines.append(f'<Grid Name="{PLANE_GRID}-{i}" GridType="Uniform">'
+                     + (mesh if i == 0 else shared) + f'<Time Value="{float(t)!r}"/>')
+        for name, center in PLANE_FIELDS:
+            lines.append(f'<Attribute Name="{name}" AttributeType="Vector" Center="{center}">'
+                         + _slab(h5, plane_layout.field_path(name), i, shapes[center])
                          + "</Attribute>")
         lines.append("</Grid>")
     return lines + ["</Grid>"]
@@ -156,6 +258,8 @@ def to_xdmf(result, path=None):
     h5 = os.path.relpath(os.path.abspath(result.path), os.path.dirname(os.path.abspath(path)))
     lines = ['<?xml version="1.0"?>',
              '<Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">', "<Domain>"]
+    if result.dimension == 2:
+        lines += _plane_grids(result, h5)
     for body in result.bodies:
         lines += _body_grids(result, body, h5)
     lines += ["</Domain>", "</Xdmf>"]

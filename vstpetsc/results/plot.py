@@ -2,42 +2,30 @@
 space and time, then the panels the case has data for: contact force,
 energies, gauge accelerations and the top gauge's response spectrum, peak
 profiles over x), the response spectrum and the transfer function (`vstpetsc
-spectrum`, `transfer`).  The only module that imports matplotlib."""
+spectrum`, `transfer`); a plane-strain result's figure is
+:mod:`vstpetsc.results.plane_plot`'s.  These two and
+:mod:`vstpetsc.results.figure_parts` (what they share) are the only modules
+that import matplotlib."""
 
 import numpy as np
 
 from vstpetsc.results import layout
+from vstpetsc.results.figure_parts import energy_panel, labelled as _labelled, \
+    pyplot as _pyplot, units
 from vstpetsc.results.layout import text
 from vstpetsc.results.reader import Result
 
 
-def units(attrs):
-    """Axis units from the result's root attributes (SI by default)."""
-    get = lambda k, d: text(attrs.get(k, d))
-    L, T, M = get("unit_length", "m"), get("unit_time", "s"), get("unit_mass", "kg")
-    si = (L, T, M) == ("m", "s", "kg")
-    return {"length": L, "time": T, "velocity": f"{L}/{T}",
-            "force": "N" if si else f"{M} {L}/{T}^2",
-            "energy": "J" if si else f"{M} {L}^2/{T}^2"}
-
-
-def plot_result(result, out, max_rows=800):
+def plot_result(result, out, max_rows=800, times=None):
     """Write the overview figure of ``result`` (a Result or a path) to
-    ``out`` (PNG)."""
+    ``out`` (PNG); ``times``: the times of a 2-D result's mesh panels
+    (:func:`vstpetsc.results.plane_plot.chosen_rows`)."""
     import matplotlib.pyplot as plt
 
-    fig = result_figure(result, max_rows)
+    fig = result_figure(result, max_rows, times)
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return out
-
-
-def _pyplot():
-    import matplotlib
-    if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg", "cairo"):
-        matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
 
 
 def panels(r):
@@ -57,16 +45,25 @@ def panels(r):
     return out
 
 
-def result_figure(result, max_rows=800):
+def result_figure(result, max_rows=800, times=None):
     """The overview figure of ``result`` (a Result or a path; a matplotlib
     Figure): the velocity map on top, the small panels of :func:`panels`
-    two a row below it."""
+    two a row below it; a 2-D result's is
+    :func:`vstpetsc.results.plane_plot.plane_figure` (``times`` its mesh
+    panels' times, an InputError on a 1-D result)."""
     from matplotlib.ticker import MaxNLocator
 
+    from vstpetsc.errors import InputError
     from vstpetsc.results import seismic
 
     plt = _pyplot()
     r = result if isinstance(result, Result) else Result(result)
+    if r.dimension == 2:
+        from vstpetsc.results.plane_plot import plane_figure
+        return plane_figure(r, times)
+    if times is not None:
+        raise InputError("times: only a 2-D result's figure has times to choose "
+                         "(a 1-D one shows every time)")
     u = units(r.attrs)
     small = panels(r)
     rows = (len(small) + 1) // 2
@@ -146,25 +143,6 @@ def slip_axis(ax, r, u):
     ax.set_title("contact force (compressive positive) and slip")
 
 
-def energy_panel(ax, r, u, profiles=None):
-    """The energy balance: kinetic, strain (+ springs), and the sums of
-    external work, dashpot work, sliding, a soil's hysteresis and
-    numerical dissipation where not zero."""
-    t, e = r.time, r.energy
-    names = set(e.keys())
-    kin, strain = e["kinetic"], e["strain"]
-    if "spring" in names and np.abs(e["spring"]).max() > 0:
-        strain = strain + e["spring"]
-    ax.plot(t, kin, label="kinetic")
-    ax.plot(t, strain, label="strain")
-    ax.plot(t, kin + strain, "k", lw=1.5, label="total")
-    for key, style in (("external", "--"), ("damping", ":"), ("friction", (0, (3, 1))),
-                       ("hysteretic", (0, (5, 1, 1, 1))), ("numerical", "-.")):
-        if key in names and np.abs(e[key]).max() > 0:
-            ax.plot(t, e[key], ls=style, label=f"{key} (summed)")
-    return _labelled(ax, f"t [{u['time']}]", f"energy [{u['energy']}]", "energy")
-
-
 def gauge_panel(ax, r, u, profiles=None):
     """Every gauge's acceleration over time (shear where its body has it)."""
     from vstpetsc.results import seismic
@@ -238,15 +216,6 @@ def acceleration_profile(ax, r, u, profiles):
 def _profile_axes(ax, u, ylabel, title):
     """x along the bodies, ``ylabel``, ``title``, a legend."""
     return _labelled(ax, f"x [{u['length']}]", ylabel, title)
-
-
-def _labelled(ax, xlabel, ylabel, title):
-    """The axes' labels and title, and a legend."""
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    ax.legend(fontsize=8)
-    return ax
 
 
 def plot_spectrum(spec, out, result, title):

@@ -436,7 +436,9 @@ class GaugeGroup(Group):
     @property
     def acceleration(self):
         """The axial acceleration at the slab ends: central differences of
-        ``v`` (one-sided at the first and last)."""
+        ``v`` (one-sided at the first and last); on a plane-strain gauge
+        (``v`` (n, 2)) the (n, 2) accelerations a_x, a_y, each column
+        from its own velocity component."""
         from vstpetsc.spectrum import acceleration
         return acceleration(self.v, self.dt)
 

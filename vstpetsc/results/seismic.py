@@ -8,6 +8,7 @@ import numpy as np
 from vstpetsc.results import layout
 
 COMPONENTS = ("shear", "axial")
+PLANE_COMPONENTS = ("x", "y")        # a plane-strain gauge's columns of v
 BAND = 0.01                          # the summary's band: input amplitude >= 1 % of its peak
 STRAIN_MAX = "shear/strain_max"      # the largest |dw/dx| per element, when the law writes it
 
@@ -25,7 +26,11 @@ def moving_component(gauge):
 
 
 def gauge_acceleration(gauge, component):
-    """The gauge's acceleration at every slab end, of ``component``."""
+    """The gauge's acceleration at every slab end, of ``component``: shear
+    or axial on a line, x or y in the plane (that column of the (n, 2)
+    accelerations)."""
+    if component in PLANE_COMPONENTS:
+        return gauge.acceleration[:, PLANE_COMPONENTS.index(component)]
     return gauge.shear_acceleration if component == "shear" else gauge.acceleration
 
 

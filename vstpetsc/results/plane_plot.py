@@ -1,0 +1,134 @@
+"""The figure of a plane-strain result (`vstpetsc plot` of a 2-D file):
+(a) the deformed mesh coloured by the speed |v| at chosen kept times, the
+displacements magnified by one factor for every panel, (b) the gauges'
+v_x and v_y over time, (c) the energy terms.  Every cell is drawn at once
+(matplotlib's tripcolor and a PolyCollection), no loop over cells."""
+
+import numpy as np
+
+from vstpetsc.errors import InputError
+from vstpetsc.results import plane_layout
+
+MAGNIFIED = 0.05        # the largest displacement is drawn as this part of the mesh's size
+EDGES_UP_TO = 5000      # cell edges drawn up to this many cells: beyond they blacken the mesh
+MAX_TIMES = 6           # mesh panels at most (the figure's width is fixed)
+
+
+def speed(v):
+    """|v| = sqrt(v_x^2 + v_y^2) of velocities ``v`` (..., 2)."""
+    return np.sqrt(v[..., 0] ** 2 + v[..., 1] ** 2)
+
+
+def magnification(coordinates, displacements):
+    """The factor that draws the largest |u| of ``displacements`` (k, nn,
+    2) as MAGNIFIED of the mesh's size (the longer side of its bounding
+    box); 1 when nothing moved."""
+    largest = speed(displacements).max(initial=0.0)
+    size = np.ptp(coordinates, axis=0).max()
+    return MAGNIFIED * size / largest if largest > 0 else 1.0
+
+
+def times_problem(kept, times):
+    """Why ``times`` cannot be drawn from a run whose kept times are
+    ``kept``, or None: each must lie within the run (a rounding of its
+    length beyond either end is allowed)."""
+    times = np.asarray(times, dtype=float)
+    if times.size == 0 or times.size > MAX_TIMES:
+        return f"1 to {MAX_TIMES} times, got {times.size}"
+    slack = 1e-9 * max(kept[-1] - kept[0], abs(kept[-1]))
+    outside = times[~((times >= kept[0] - slack) & (times <= kept[-1] + slack))]
+    if outside.size:
+        return f"{outside[0]:g} is outside the run ({kept[0]:g} .. {kept[-1]:g})"
+    return None
+
+
+def chosen_rows(r, times=None):
+    """The kept rows drawn: those nearest ``times``, by default the row of
+    the largest kinetic energy and the last row (increasing, no repeats)."""
+    kept = r.time
+    if times is None:
+        return sorted({int(np.argmax(r.energy["kinetic"])), kept.size - 1})
+    why = times_problem(kept, times)
+    if why:
+        raise InputError(f"times: {why}")
+    nearest = np.abs(kept[None, :] - np.asarray(times, dtype=float)[:, None]).argmin(axis=1)
+    return sorted(set(nearest.tolist()))
+
+
+def triangles(cells):
+    """The cells (ne, 4; -1 pads a triangle) as triangles for tripcolor:
+    each triangle, and each quadrilateral cut along its diagonal 0-2."""
+    quads = cells[cells[:, 3] >= 0]
+    return np.vstack([cells[:, :3], quads[:, [0, 2, 3]]])
+
+
+def outlines(cells):
+    """The cells as 4-corner polygons: a triangle's third node repeated."""
+    return np.where(cells < 0, cells[:, [2]], cells)
+
+
+def mesh_panel(ax, coordinates, cells, displacement, velocity, factor, vmax):
+    """The mesh moved by ``factor`` x ``displacement``, coloured by the
+    speed of ``velocity`` at its nodes (shaded between them); returns the
+    coloured collection."""
+    xy = coordinates + factor * displacement
+    shade = ax.tripcolor(xy[:, 0], xy[:, 1], triangles(cells), speed(velocity),
+                         shading="gouraud", cmap="viridis", vmin=0.0, vmax=vmax)
+    if len(cells) <= EDGES_UP_TO:
+        from matplotlib.collections import PolyCollection
+        ax.add_collection(PolyCollection(xy[outlines(cells)], facecolors="none",
+                                         edgecolors="0.15", linewidths=0.3))
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    return shade
+
+
+def gauge_velocities(ax, r, u):
+    """(b) every gauge's v_x (solid) and v_y (dashed) over time."""
+    for k, name in enumerate(r.gauges):
+        g = r.gauge(name)
+        v, (x, y), colour = g.v, g.attrs["x"], f"C{k % 10}"
+        ax.plot(g.time, v[:, 0], color=colour, lw=0.8, label=f"{name} ({x:g}, {y:g}) v_x")
+        ax.plot(g.time, v[:, 1], "--", color=colour, lw=0.8, label=f"{name} v_y")
+    ax.set_xlabel(f"t [{u['time']}]")
+    ax.set_ylabel(f"velocity [{u['velocity']}]")
+    ax.set_title("(b) gauge velocities (v_x solid, v_y dashed)")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plane_figure(r, times=None):
+    """The figure of plane-strain Result ``r``: a mesh panel per chosen
+    time (:func:`chosen_rows`) with one colour bar, then the gauges (if
+    any) and the energies."""
+    from vstpetsc.results.figure_parts import energy_panel, pyplot, units
+
+    plt = pyplot()
+    u = units(r.attrs)
+    rows = chosen_rows(r, times)
+    mesh = r.mesh
+    coordinates, cells = mesh.coordinates, mesh.cells
+    displacements = r.read(plane_layout.field_path("u"), np.s_[rows])
+    velocities = r.read(plane_layout.field_path("v"), np.s_[rows])
+    factor = magnification(coordinates, displacements)
+    width, height = np.ptp(coordinates, axis=0)
+    panel = np.clip(10.5 / len(rows) * height / max(width, 1e-300), 2.0, 6.0)
+    fig = plt.figure(figsize=(11, panel + 4.2), constrained_layout=True)
+    grid = fig.add_gridspec(2, 1, height_ratios=[panel, 3.8])
+    top = grid[0].subgridspec(1, len(rows))
+    axes = [fig.add_subplot(top[0, k]) for k in range(len(rows))]
+    vmax = float(np.nanmax(speed(velocities), initial=0.0)) or 1.0     # one scale for all panels
+    for k, (ax, row) in enumerate(zip(axes, rows)):
+        shade = mesh_panel(ax, coordinates, cells, displacements[k], velocities[k], factor, vmax)
+        ax.set_title(f"(a{k + 1}) speed |v| at t = {r.time[row]:.6g} {u['time']}", fontsize=10)
+        ax.set_xlabel(f"x [{u['length']}]")
+    axes[0].set_ylabel(f"y [{u['length']}]")
+    fig.colorbar(shade, ax=axes, label=f"speed |v| [{u['velocity']}]")
+    fig.suptitle(f"plane strain, {len(cells)} cells ({r.status}): the mesh deformed by u "
+                 f"magnified {factor:.4g} times", fontsize=11)
+    bottom = grid[1].subgridspec(1, 2 if r.gauges else 1)
+    if r.gauges:
+        gauge_velocities(fig.add_subplot(bottom[0, 0]), r, u)
+    energy = energy_panel(fig.add_subplot(bottom[0, -1]), r, u)
+    energy.set_title("(c) energy" if r.gauges else "(b) energy")
+    return fig
