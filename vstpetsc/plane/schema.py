@@ -137,12 +137,13 @@ def read_mesh(chk, tbl):
 def _rectangle(chk, p, where):
     out = {}
     for key in ("x", "y"):
-        pair = p.get(key)
-        if not (isinstance(pair, list) and len(pair) == 2 and all(map(is_number, pair))
-                and pair[0] < pair[1]):
-            chk.add(f"{where}.{key}", f"must be [low, high] with low < high, got {show(pair)}")
+        pair = _numbers(chk, p.get(key), f"{where}.{key}", "[low, high]")
+        if pair is None:
             return None
-        out[key] = tuple(float(a) for a in pair)
+        if not pair[0] < pair[1]:
+            chk.add(f"{where}.{key}", f"must be [low, high] with low < high, got {list(pair)}")
+            return None
+        out[key] = pair
     out["nx"], out["ny"] = (chk.integer(p, k, where) for k in ("nx", "ny"))
     out["triangles"] = chk.boolean(p, "triangles", where)
     return None if None in out.values() else MeshSpec("rectangle", params=out)
@@ -230,12 +231,18 @@ def _pair(chk, tbl, key, where, names, default):
     return None if None in got else tuple(got)
 
 
-def _vector(chk, tbl, key, where):
-    val = tbl.get(key, [0.0, 0.0])
+def _numbers(chk, val, name, form):
+    """Two finite numbers in the range of doubles as a tuple (None after
+    reporting)."""
     if not (isinstance(val, list) and len(val) == 2 and all(map(is_number, val))):
-        chk.add(f"{where}.{key}", f"must be [x, y] (two numbers), got {show(val)}")
+        chk.add(name, f"must be {form} (two numbers), got {show(val)}")
         return None
-    return tuple(float(a) for a in val)
+    out = tuple(chk.real(name, a) for a in val)
+    return None if None in out else out
+
+
+def _vector(chk, tbl, key, where):
+    return _numbers(chk, tbl.get(key, [0.0, 0.0]), f"{where}.{key}", "[x, y]")
 
 
 def read_boundaries(chk, tables):
