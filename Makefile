@@ -86,7 +86,8 @@ bench: install $(OPENSEES)
 	$(PY) bench/parallel_solvers.py
 	$(PY) bench/soil_cost.py
 	$(PY) bench/friction_cost.py 64 7
-	$(PY) bench/plane_solvers.py
+	$(PY) bench/plane_solvers.py 10000 100000 --courant 1,4
+	$(PY) bench/plane_slab.py
 	$(PY) bench/plane_parallel.py
 	$(PY) bench/blas_threads.py
 	$(PY) bench/sweep_speed.py
