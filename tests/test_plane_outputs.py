@@ -339,3 +339,30 @@ def test_a_bad_component_from_the_shell(results):
                         "--gauge", "top", "--component", "z"],
                        cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert p.returncode == 2 and one_clean_line(p.stderr) and "--component" in p.stderr
+
+
+def test_the_mesh_panels_show_a_stress_per_cell(results, tmp_path, capsys):
+    """--color sxy: each panel's cells coloured flat by sigma_xy of its
+    row (the file's /field/stress column), one scale symmetric about 0
+    for every panel; an unknown colour or --color on a 1-D result is one
+    line, exit 2."""
+    import matplotlib.pyplot as plt
+
+    from vstpetsc.results.plot import result_figure
+
+    r = results["dam"]
+    rows = [int(np.argmax(r.energy["kinetic"])), r.time.size - 1]
+    fig = result_figure(r, colour="sxy")
+    stress = r.field.stress[rows][..., 2]
+    top = np.abs(stress).max()
+    for k, row in enumerate(rows):
+        ax = fig.axes[k]
+        assert ax.get_title() == f"(a{k + 1}) sigma_xy at t = {r.time[row]:.6g} s"
+        shade = ax.collections[0]
+        assert np.array_equal(np.asarray(shade.get_array()), stress[k])
+        assert shade.get_clim() == (-top, top)
+    plt.close(fig)
+    png = tmp_path / "sxx.png"
+    assert main(capsys, "plot", r.path, "-o", png, "--color", "sxx") == (0, f"wrote {png}\n", "")
+    code, out, err = main(capsys, "plot", r.path, "-o", png, "--color", "pressure")
+    assert code == 2 and err.strip().count("\n") == 0 and "--color: one of" in err

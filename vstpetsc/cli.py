@@ -15,7 +15,7 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
                     [--restart RESULT.h5] [PETSc options ...]
        vstpetsc example [NAME [-o CASE.toml]]   list the bundled cases, or write one
        vstpetsc info RESULT.h5                   one-screen summary of a result
-       vstpetsc plot RESULT.h5 [-o FIGURE.png] [--times T1,T2]
+       vstpetsc plot RESULT.h5 [-o FIGURE.png] [--times T1,T2] [--color speed|sxx|syy|sxy]
                                                  velocity map and what the case has; 2-D: the
                                                  deformed mesh by speed at T1, T2, gauges, energy
        vstpetsc sweep CASE.toml --set KEY=V1,V2,... [--set ...] [-o DIR] [--quiet]
@@ -309,14 +309,28 @@ def _figure(opts, source):
 def _plot(rest):
     if any(tok.endswith(".csv") for tok in rest if not tok.startswith("-")):
         return _plot_sweep(rest)
-    opts = parse_options(rest, ["result"], valued=("-o", "--output", "--times"))
+    opts = parse_options(rest, ["result"], valued=("-o", "--output", "--times", "--color"))
     result = _result(opts, "plot")
     times = _plot_times(opts["times"], result)
+    colour = _plot_colour(opts["color"], result)
     out = _figure(opts, result.path)
     from vstpetsc.results.plot import plot_result
-    plot_result(result, out, times=times)
+    plot_result(result, out, times=times, colour=colour)
     print(f"wrote {out}")
     return 0
+
+
+def _plot_colour(text, result):
+    """--color: what a 2-D result's mesh panels show (None when not given)."""
+    from vstpetsc.results.plane_plot import COLOURS
+
+    if text is None:
+        return None
+    if result.dimension != 2:
+        raise UsageError("--color: only for a 2-D result's mesh panels")
+    if text not in COLOURS:
+        raise UsageError(f"--color: one of {', '.join(COLOURS)}, got {text!r}")
+    return text
 
 
 def _plot_times(text, result):

@@ -12,6 +12,10 @@ from vstpetsc.results import plane_layout
 MAGNIFIED = 0.05        # the largest displacement is drawn as this part of the mesh's size
 EDGES_UP_TO = 5000      # cell edges drawn up to this many cells: beyond they blacken the mesh
 MAX_TIMES = 6           # mesh panels at most (the figure's width is fixed)
+# what the mesh panels may be coloured by: the speed at the nodes, or a
+# stress component at the cells' centres (its column in /field/stress)
+COLOURS = {"speed": None, "sxx": 0, "syy": 1, "sxy": 2}
+STRESS_NAMES = {"sxx": "sigma_xx", "syy": "sigma_yy", "sxy": "sigma_xy"}
 
 
 def speed(v):
@@ -67,20 +71,40 @@ def outlines(cells):
     return np.where(cells < 0, cells[:, [2]], cells)
 
 
-def mesh_panel(ax, coordinates, cells, displacement, velocity, factor, vmax):
-    """The mesh moved by ``factor`` x ``displacement``, coloured by the
-    speed of ``velocity`` at its nodes (shaded between them); returns the
-    coloured collection."""
+def mesh_panel(ax, coordinates, cells, displacement, values, factor, limits):
+    """The mesh moved by ``factor`` x ``displacement``, coloured by
+    ``values``: per node (the speed, shaded between nodes) or per cell (a
+    stress, each cell flat) within ``limits``; returns the coloured
+    collection."""
+    from matplotlib.collections import PolyCollection
+
     xy = coordinates + factor * displacement
-    shade = ax.tripcolor(xy[:, 0], xy[:, 1], triangles(cells), speed(velocity),
-                         shading="gouraud", cmap="viridis", vmin=0.0, vmax=vmax)
-    if len(cells) <= EDGES_UP_TO:
-        from matplotlib.collections import PolyCollection
-        ax.add_collection(PolyCollection(xy[outlines(cells)], facecolors="none",
-                                         edgecolors="0.15", linewidths=0.3))
+    edges = dict(edgecolors="0.15", linewidths=0.3) if len(cells) <= EDGES_UP_TO \
+        else dict(edgecolors="none")
+    if len(values) == len(cells):
+        shade = PolyCollection(xy[outlines(cells)], array=values, cmap="RdBu_r", **edges)
+        shade.set_clim(*limits)
+        ax.add_collection(shade)
+    else:
+        shade = ax.tripcolor(xy[:, 0], xy[:, 1], triangles(cells), values,
+                             shading="gouraud", cmap="viridis", vmin=limits[0], vmax=limits[1])
+        if len(cells) <= EDGES_UP_TO:
+            ax.add_collection(PolyCollection(xy[outlines(cells)], facecolors="none", **edges))
     ax.set_aspect("equal")
     ax.autoscale_view()
     return shade
+
+
+def panel_values(r, rows, colour):
+    """(values per panel, their limits, their label): the speed at the
+    nodes (0 .. largest), or a stress component at the cells (symmetric
+    about 0), one scale for every panel."""
+    if COLOURS[colour] is None:
+        values = speed(r.read(plane_layout.field_path("v"), np.s_[rows]))
+        return values, (0.0, float(np.nanmax(values, initial=0.0)) or 1.0), "speed |v|"
+    values = r.read(plane_layout.field_path("stress"), np.s_[rows])[..., COLOURS[colour]]
+    top = float(np.nanmax(np.abs(values), initial=0.0)) or 1.0
+    return values, (-top, top), STRESS_NAMES[colour]
 
 
 def gauge_velocities(ax, r, u):
@@ -97,19 +121,20 @@ def gauge_velocities(ax, r, u):
     return ax
 
 
-def plane_figure(r, times=None):
+def plane_figure(r, times=None, colour="speed"):
     """The figure of plane-strain Result ``r``: a mesh panel per chosen
-    time (:func:`chosen_rows`) with one colour bar, then the gauges (if
-    any) and the energies."""
+    time (:func:`chosen_rows`) coloured by ``colour`` (a key of COLOURS)
+    with one colour bar, then the gauges (if any) and the energies."""
     from vstpetsc.results.figure_parts import energy_panel, pyplot, units
 
+    if colour not in COLOURS:
+        raise InputError(f"color: one of {', '.join(COLOURS)}, got {colour!r}")
     plt = pyplot()
     u = units(r.attrs)
     rows = chosen_rows(r, times)
-    mesh = r.mesh
-    coordinates, cells = mesh.coordinates, mesh.cells
+    coordinates, cells = r.mesh.coordinates, r.mesh.cells
     displacements = r.read(plane_layout.field_path("u"), np.s_[rows])
-    velocities = r.read(plane_layout.field_path("v"), np.s_[rows])
+    values, limits, label = panel_values(r, rows, colour)
     factor = magnification(coordinates, displacements)
     width, height = np.ptp(coordinates, axis=0)
     panel = np.clip(10.5 / len(rows) * height / max(width, 1e-300), 2.0, 6.0)
@@ -117,13 +142,13 @@ def plane_figure(r, times=None):
     grid = fig.add_gridspec(2, 1, height_ratios=[panel, 3.8])
     top = grid[0].subgridspec(1, len(rows))
     axes = [fig.add_subplot(top[0, k]) for k in range(len(rows))]
-    vmax = float(np.nanmax(speed(velocities), initial=0.0)) or 1.0     # one scale for all panels
     for k, (ax, row) in enumerate(zip(axes, rows)):
-        shade = mesh_panel(ax, coordinates, cells, displacements[k], velocities[k], factor, vmax)
-        ax.set_title(f"(a{k + 1}) speed |v| at t = {r.time[row]:.6g} {u['time']}", fontsize=10)
+        shade = mesh_panel(ax, coordinates, cells, displacements[k], values[k], factor, limits)
+        ax.set_title(f"(a{k + 1}) {label} at t = {r.time[row]:.6g} {u['time']}", fontsize=10)
         ax.set_xlabel(f"x [{u['length']}]")
     axes[0].set_ylabel(f"y [{u['length']}]")
-    fig.colorbar(shade, ax=axes, label=f"speed |v| [{u['velocity']}]")
+    unit = u["velocity"] if colour == "speed" else "Pa"
+    fig.colorbar(shade, ax=axes, label=f"{label} [{unit}]")
     fig.suptitle(f"plane strain, {len(cells)} cells ({r.status}): the mesh deformed by u "
                  f"magnified {factor:.4g} times", fontsize=11)
     bottom = grid[1].subgridspec(1, 2 if r.gauges else 1)

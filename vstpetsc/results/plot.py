@@ -16,13 +16,13 @@ from vstpetsc.results.layout import text
 from vstpetsc.results.reader import Result
 
 
-def plot_result(result, out, max_rows=800, times=None):
+def plot_result(result, out, max_rows=800, times=None, colour=None):
     """Write the overview figure of ``result`` (a Result or a path) to
     ``out`` (PNG); ``times``: the times of a 2-D result's mesh panels
     (:func:`vstpetsc.results.plane_plot.chosen_rows`)."""
     import matplotlib.pyplot as plt
 
-    fig = result_figure(result, max_rows, times)
+    fig = result_figure(result, max_rows, times, colour)
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return out
@@ -45,7 +45,7 @@ def panels(r):
     return out
 
 
-def result_figure(result, max_rows=800, times=None):
+def result_figure(result, max_rows=800, times=None, colour=None):
     """The overview figure of ``result`` (a Result or a path; a matplotlib
     Figure): the velocity map on top, the small panels of :func:`panels`
     two a row below it; a 2-D result's is
@@ -60,7 +60,9 @@ def result_figure(result, max_rows=800, times=None):
     r = result if isinstance(result, Result) else Result(result)
     if r.dimension == 2:
         from vstpetsc.results.plane_plot import plane_figure
-        return plane_figure(r, times)
+        return plane_figure(r, times, colour or "speed")
+    if colour is not None:
+        raise InputError("color: only a 2-D result's mesh panels have colours to choose")
     if times is not None:
         raise InputError("times: only a 2-D result's figure has times to choose "
                          "(a 1-D one shows every time)")
