@@ -250,3 +250,16 @@ def test_a_restart_on_two_ranks_continues_the_run(tmp_path):
         if key not in ("solver/wall_time", "solver/energy_sums"):
             scale = np.abs(a[key]).max()
             assert np.abs(a[key] - b[key]).max() <= 1e-10 * scale, key
+
+
+def test_a_linear_solve_that_fails_ends_the_run_failed(tmp_path):
+    """GMRES allowed one iteration cannot reach 1e-14: exit 3, the file
+    keeps the rows before with status "failed" and PETSc's reason."""
+    out = tmp_path / "failed.h5"
+    p = run_cli("run", dam_case(tmp_path), "-o", out, "-q", "-vst_plane_ksp_type", "gmres",
+                "-vst_plane_pc_type", "jacobi", "-vst_plane_ksp_max_it", "1",
+                "-vst_plane_ksp_rtol", "1e-14")
+    assert p.returncode == 3, p.stderr
+    assert "did not converge" in p.stderr and p.stderr.strip().count("\n") == 0
+    r = vstpetsc.Result(out)
+    assert r.status == "failed" and "did not converge" in r.attrs["message"]
