@@ -220,7 +220,7 @@ def test_a_sweep_of_a_plane_case(tmp_path):
             assert np.allclose(b[key], 0.25 * a[key], rtol=1e-12, atol=1e-12 * a[key].max())
 
 
-def continued_on_two_ranks(tmp_path, *options):
+def mpirun_continued(tmp_path, *options):
     """(the whole two-rank run's datasets, those of one stopped at 0.1 s
     and continued with --restart to 0.2 s), both with ``options``."""
     whole, part = tmp_path / "whole.h5", tmp_path / "part.h5"
@@ -239,13 +239,13 @@ def test_a_restart_on_two_ranks_continues_the_run(tmp_path):
     factorisation is not repeatable bit for bit (two runs of one case
     differ by 9e-15 m/s here), within 1e-10 of each dataset's largest
     value."""
-    a, b = continued_on_two_ranks(tmp_path, "-vst_plane_pc_type", "redundant")
+    a, b = mpirun_continued(tmp_path, "-vst_plane_pc_type", "redundant")
     assert set(a) == set(b)
     for key in a:
         if key != "solver/wall_time":
             assert np.array_equal(a[key], b[key]), key
     (tmp_path / "mumps").mkdir()
-    a, b = continued_on_two_ranks(tmp_path / "mumps")
+    a, b = mpirun_continued(tmp_path / "mumps")
     for key in a:
         if key not in ("solver/wall_time", "solver/energy_sums"):
             scale = np.abs(a[key]).max()

@@ -140,6 +140,17 @@ class PlaneModel:
             C = dashpots if C is None else C + dashpots
         return M, C, K
 
+    def courant(self, dt):
+        """The largest Vp dt / h over every rank's cells (h: a
+        quadrilateral's sqrt(area), a triangle's sqrt(2 area), the side of
+        the square or of the right triangle of that area)."""
+        mesh, mat = self.local.mesh, self.materials
+        area = np.abs(mesh.areas()) * np.where(mesh.cells[:, 3] < 0, 2.0, 1.0)
+        vp = np.sqrt((mat["lam"] + 2 * mat["mu"]) / mat["rho"])
+        local = float(np.max(vp * dt / np.sqrt(area), initial=0.0))
+        from mpi4py import MPI
+        return self.comm.tompi4py().allreduce(local, op=MPI.MAX)
+
     def describe(self):
         lines = [f"  plane strain: {self.ncells} cells, {self.nnodes} nodes, "
                  f"{len(self.case.plane.regions)} regions"]

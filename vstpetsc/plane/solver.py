@@ -59,7 +59,8 @@ class PlaneSolver:
         self.A = petsc_matrix(identity_rows(A, self.rows, 4 * first), comm)
         del A
         model.release_matrices()
-        self.ksp = linear_solver(self.A, comm)
+        self.courant = model.courant(dt)
+        self.ksp = linear_solver(self.A, comm, self.courant)
         self.x, self.b = self.A.createVecs()
         self.mv, self.ku = self.M.createVecs()
         self.v_vec, self.u_vec = self.M.createVecs()
@@ -76,7 +77,7 @@ class PlaneSolver:
         kind = self.ksp.getType() + "/" + pc.getType()
         if pc.getType() == "lu":
             kind += f" ({pc.getFactorSolverType()})"
-        return f"plane strain, {kind}"
+        return f"plane strain, {kind}, Vp dt / h up to {self.courant:.3g}"
 
     def set_state(self, u, v, envelopes=None):
         """Start from u, v (nn, 2) of every node (the mesh's numbering as read)."""
