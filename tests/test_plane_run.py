@@ -231,35 +231,27 @@ def mpirun_continued(tmp_path, *options):
     return datasets(whole), datasets(part)
 
 
-def test_a_restart_on_two_ranks_continues_the_run(tmp_path):
+MUMPS = ("-vst_plane_ksp_type", "preonly", "-vst_plane_pc_type", "lu",
+         "-vst_plane_pc_factor_mat_solver_type", "mumps")
+
+
+@pytest.mark.parametrize("options, exact", [
+    ((), True), (("-vst_plane_pc_type", "redundant"), True), (MUMPS, False)],
+    ids=["default", "redundant", "mumps"])
+def test_a_restart_on_two_ranks_continues_the_run(tmp_path, options, exact):
     """The dam on two ranks stopped at 0.1 s and continued with two ranks:
-    with -vst_plane_pc_type redundant (every rank factors the whole slab
-    matrix: repeatable) bit for bit, each rank taking its own energy sums
-    back (solver/energy_sums); with the default MUMPS, whose parallel
-    factorisation is not repeatable bit for bit (two runs of one case
-    differ by 9e-15 m/s here), within 1e-10 of each dataset's largest
-    value."""
-    a, b = mpirun_continued(tmp_path, "-vst_plane_pc_type", "redundant")
+    with the default (GMRES with Schwarz blocks at this Courant number)
+    and with -vst_plane_pc_type redundant (every rank factors the whole
+    slab matrix) bit for bit, each rank taking its own energy sums back
+    (solver/energy_sums); with MUMPS, whose parallel factorisation is not
+    repeatable bit for bit (two runs of one case differ by 9e-15 m/s
+    here), within 1e-10 of each dataset's largest value."""
+    a, b = mpirun_continued(tmp_path, *options)
     assert set(a) == set(b)
     for key in a:
-        if key != "solver/wall_time":
+        if key in ("solver/wall_time", "solver/energy_sums") and not exact:
+            continue
+        if exact and key != "solver/wall_time":
             assert np.array_equal(a[key], b[key]), key
-    (tmp_path / "mumps").mkdir()
-    a, b = mpirun_continued(tmp_path / "mumps")
-    for key in a:
-        if key not in ("solver/wall_time", "solver/energy_sums"):
-            scale = np.abs(a[key]).max()
-            assert np.abs(a[key] - b[key]).max() <= 1e-10 * scale, key
-
-
-def test_a_linear_solve_that_fails_ends_the_run_failed(tmp_path):
-    """GMRES allowed one iteration cannot reach 1e-14: exit 3, the file
-    keeps the rows before with status "failed" and PETSc's reason."""
-    out = tmp_path / "failed.h5"
-    p = run_cli("run", dam_case(tmp_path), "-o", out, "-q", "-vst_plane_ksp_type", "gmres",
-                "-vst_plane_pc_type", "jacobi", "-vst_plane_ksp_max_it", "1",
-                "-vst_plane_ksp_rtol", "1e-14")
-    assert p.returncode == 3, p.stderr
-    assert "did not converge" in p.stderr and p.stderr.strip().count("\n") == 0
-    r = vstpetsc.Result(out)
-    assert r.status == "failed" and "did not converge" in r.attrs["message"]
+        elif not exact:
+            assert np.abs(a[key] - b[key]).max() <= 1e-10 * np.abs(a[key]).max(), key
