@@ -176,6 +176,15 @@ BAD = [
     ("boundary key", "[[boundary]]\nname = 'top'\ntype = 'fixed'\nvalue = { x = 1.0 }\n",
      "boundary[0] (top).value: not a key of a 'fixed' boundary"),
     ("static with u0", "U0", "gravity.initial: \"static\" computes the initial displacements"),
+    ("outcrop without incident", "[[boundary]]\nname = 'bottom'\ntype = 'absorbing'\n"
+     "motion = 'outcrop'\n", "boundary[0] (bottom).motion: \"outcrop\" halves an incident"),
+    ("rock key", "[[boundary]]\nname = 'bottom'\ntype = 'absorbing'\nrock = { rho = 2.0e3, Vp = 800.0 }\n",
+     "boundary[0] (bottom).rock.Vs: missing required key"),
+    ("second boundary", "[[boundary]]\nname = 'top'\ntype = 'fixed'\n[[boundary]]\n"
+     "name = 'top'\ntype = 'fixed'\n", "boundary[1].name: a second [[boundary]] on curve 'top'"),
+    ("two meshes", "MESHES", "mesh: give exactly one of file, rectangle, dam (got rectangle, dam)"),
+    ("reversed", "REVERSED", "mesh.rectangle.x: must be [low, high] with low < high"),
+    ("huge", "HUGE", "mesh.rectangle.x: an integer beyond the 64-bit range"),
 ]
 
 
@@ -186,10 +195,14 @@ def test_bad_inputs_exit_2_with_one_line(tmp_path, what, extra, message):
     if extra == "U0":
         speeds += "\nu0 = [0.0, 1.0]"
         extra = "[gravity]\ng = -9.81\ninitial = 'static'\n"
+    x = {"REVERSED": "[4.0, 0.0]", "HUGE": "[0.0, 1" + "0" * 30 + "]"}.get(extra, "[0.0, 4.0]")
     mesh = "file = 'missing.msh'" if extra == "FILE" else \
-        "rectangle = { x = [0.0, 4.0], y = [0.0, 2.0], nx = 2, ny = 1 }"
+        f"rectangle = {{ x = {x}, y = [0.0, 2.0], nx = 2, ny = 1 }}"
+    if extra == "MESHES":
+        mesh += "\ndam = { height = 1.0 }"
     text = (f"[time]\ndt = 1e-3\nend = 0.01\n[mesh]\n{mesh}\n[[region]]\n{region}\n{speeds}\n"
-            f"rho = 2000.0\n" + (extra if extra not in (None, "FILE", "VP") else ""))
+            f"rho = 2000.0\n" + (extra if extra not in (None, "FILE", "VP", "MESHES", "REVERSED",
+                                                       "HUGE") else ""))
     case = tmp_path / "bad.toml"
     case.write_text(text)
     p = run_cli("run", case, "-o", tmp_path / "bad.h5", "-q")
