@@ -268,3 +268,18 @@ def test_a_restart_on_two_ranks_continues_the_run(tmp_path, options, exact):
             assert np.array_equal(a[key], b[key]), key
         elif not exact:
             assert np.abs(a[key] - b[key]).max() <= 1e-10 * np.abs(a[key]).max(), key
+
+
+def test_a_dry_run_reads_and_checks_the_mesh(tmp_path):
+    """--dry-run of a 2-D case: the mesh read and checked, its size and
+    each region's Courant number printed, nothing solved or written; a
+    region the mesh has not: exit 2, one line."""
+    case = dam_case(tmp_path)
+    p = run_cli("run", case, "--dry-run")
+    assert p.returncode == 0, p.stderr
+    assert "plane strain: 193 cells (100 triangles), 174 nodes" in p.stdout
+    assert "region foundation: Vp = 1600, Vs = 800, rho = 2400, Vp dt / h up to 1" in p.stdout
+    assert not list(tmp_path.glob("*.h5"))
+    case.write_text(case.read_text().replace('name = "foundation"', 'name = "rock"'))
+    p = run_cli("run", case, "--dry-run")
+    assert p.returncode == 2 and p.stderr.count("\n") == 1 and "region[1] (rock).name" in p.stderr

@@ -199,15 +199,23 @@ def _run(rest):
         if not os.path.isfile(out_path):
             raise UsageError(f"--restart: {out_path}: no such file")
     if opts["--dry-run"]:
-        from vstpetsc.driver import describe_model
-        from vstpetsc.model import build_model
         if _rank() == 0:
-            print(describe_model(case, build_model(case), out_path))
+            print(_dry_run(case, out_path))
         return 0
     problem = output_problem(out_path)
     if problem:
         raise UsageError(f"{'-o' if opts['output'] else 'output.path'}: {problem}")
     return _solve(case, out_path, petsc_args, opts)
+
+
+def _dry_run(case, out_path):
+    """The model summary of ``case`` without solving anything."""
+    if case.plane is not None:
+        from vstpetsc.plane.model import summary
+        return summary(case, out_path)
+    from vstpetsc.driver import describe_model
+    from vstpetsc.model import build_model
+    return describe_model(case, build_model(case), out_path)
 
 
 def _solve(case, out_path, petsc_args, opts):

@@ -56,6 +56,33 @@ def check_names(case, mesh):
                              "of the mesh")
 
 
+def summary(case, output):
+    """What a run of ``case`` would solve (`vstpetsc run --dry-run`): the
+    mesh read and checked against the tables, its size, each region's
+    speeds and Courant number; InputError as a run would raise it."""
+    mesh = read_mesh(case.plane.mesh)
+    check_names(case, mesh)
+    lines = [f"vstpetsc: {case.source}",
+             f"  dt = {case.dt:g}, {case.nslabs} slabs to t = {case.nslabs * case.dt:g}; keep "
+             f"every {case.every}; result: {output}",
+             f"  plane strain: {mesh.ncells} cells ({mesh.triangles.size} triangles), "
+             f"{mesh.nnodes} nodes"]
+    size = cell_sizes(mesh)
+    for r in case.plane.regions:
+        h = size[mesh.region == mesh.region_names.index(r.name)]
+        lines.append(f"  region {r.name}: Vp = {r.vp:.6g}, Vs = {r.vs:.6g}, rho = {r.rho:g}, "
+                     f"Vp dt / h up to {r.vp * case.dt / h.min():.3g}")
+    lines += [f"  boundary {b.name}: {b.type}" + (", incident wave" if b.incident else "")
+              for b in case.plane.boundaries]
+    return "\n".join(lines)
+
+
+def cell_sizes(mesh):
+    """Each cell's h for a Courant number: the side of the square (a
+    quadrilateral) or of the right isosceles triangle of its area."""
+    return np.sqrt(np.abs(mesh.areas()) * np.where(mesh.cells[:, 3] < 0, 2.0, 1.0))
+
+
 def mesh_cell(mesh, point):
     """(cell, its nodes, their weights) of the cell holding ``point`` (the
     first such), or None: the finite element field's own interpolation."""
@@ -141,13 +168,10 @@ class PlaneModel:
         return M, C, K
 
     def courant(self, dt):
-        """The largest Vp dt / h over every rank's cells (h: a
-        quadrilateral's sqrt(area), a triangle's sqrt(2 area), the side of
-        the square or of the right triangle of that area)."""
-        mesh, mat = self.local.mesh, self.materials
-        area = np.abs(mesh.areas()) * np.where(mesh.cells[:, 3] < 0, 2.0, 1.0)
+        """The largest Vp dt / h over every rank's cells (h: cell_sizes)."""
+        mat = self.materials
         vp = np.sqrt((mat["lam"] + 2 * mat["mu"]) / mat["rho"])
-        local = float(np.max(vp * dt / np.sqrt(area), initial=0.0))
+        local = float(np.max(vp * dt / cell_sizes(self.local.mesh), initial=0.0))
         from mpi4py import MPI
         return self.comm.tompi4py().allreduce(local, op=MPI.MAX)
 
