@@ -150,18 +150,7 @@ class PlaneModel:
         self._matrices = None
 
     def _assemble(self):
-        local, mat = self.local, self.materials
-        parts = assembly.element_matrices(local.mesh, mat["lam"], mat["mu"], mat["rho"])
-        mass, stiff, damp = [], [], []
-        for cells, Ke, Me in parts.values():
-            Me = massed(Me, mat["mass"][cells])
-            mass.append((cells, Me))
-            stiff.append((cells, Ke))
-            a, b = mat["alpha"][cells], mat["beta"][cells]
-            if a.any() or b.any():
-                damp.append((cells, a[:, None, None] * Me + b[:, None, None] * Ke))
-        M, K = (distributed.owned_rows(local, blocks) for blocks in (mass, stiff))
-        C = distributed.owned_rows(local, damp) if damp else None
+        M, C, K = spatial_matrices(self.local.mesh, self.materials, self.local)
         dashpots = self.boundaries.dashpots()
         if dashpots is not None:
             C = dashpots if C is None else C + dashpots
@@ -198,6 +187,24 @@ class PlaneModel:
                 u[nodes], v[nodes] = r.u0, r.v0
         u, v = self.comm.tompi4py().bcast((u, v), root=0)
         return u, v
+
+
+def spatial_matrices(mesh, mat, local=None):
+    """(M, Rayleigh C or None, K) of ``mesh``'s cells with their materials
+    ``mat`` (cell_materials): CSR of all its nodes, or with ``local`` (a
+    LocalMesh) this rank's owned rows in global columns."""
+    parts = assembly.element_matrices(mesh, mat["lam"], mat["mu"], mat["rho"])
+    mass, stiff, damp = [], [], []
+    for cells, Ke, Me in parts.values():
+        Me = massed(Me, mat["mass"][cells])
+        mass.append((cells, Me))
+        stiff.append((cells, Ke))
+        a, b = mat["alpha"][cells], mat["beta"][cells]
+        if a.any() or b.any():
+            damp.append((cells, a[:, None, None] * Me + b[:, None, None] * Ke))
+    rows = (lambda blocks: assembly.assemble(mesh, blocks)) if local is None else \
+        (lambda blocks: distributed.owned_rows(local, blocks))
+    return rows(mass), rows(damp) if damp else None, rows(stiff)
 
 
 def cell_materials(regions, region):

@@ -4,7 +4,12 @@ dof and every node of an absorbing curve held, solved once; the run then
 starts from rest in u with the absorbing nodes' reactions K u - f_g kept
 as constant forces, so that (u, 0) is an exact equilibrium of the slab
 equations (with v = 0 their right-hand side is dt/2 (f - K u) on both
-time rows, zero everywhere)."""
+time rows, zero everywhere).
+
+The solve is rank 0's, on the whole mesh in its numbering as read, with
+PETSc's LU on one process whatever the number of ranks: the static state
+is then the same bits on any number of ranks and in every run (MUMPS's
+parallel factorisation is not repeatable bit for bit)."""
 
 from dataclasses import dataclass
 
@@ -13,7 +18,7 @@ from petsc4py import PETSc
 
 from vstpetsc.history import History
 from vstpetsc.plane.assembly import petsc_matrix
-from vstpetsc.plane.solver import gather_to_rank0, identity_rows
+from vstpetsc.plane.solver import identity_rows
 
 PREFIX = "vst_static_"
 
@@ -24,34 +29,51 @@ class PlaneStatic:
     reactions: tuple        # (pattern over the owned dofs, History 1): the kept forces
 
 
-def static_state(model, gravity_pattern):
-    """The PlaneStatic of ``model`` under the load pattern of g(0) (collective)."""
-    comm, bounds = model.comm, model.boundaries
-    M, _, K = model.matrices()
-    f = gravity_pattern * float(model.case.gravity.g(np.array([0.0]))[0])
-    held = np.union1d(bounds.held_dofs()[0], bounds.absorbing_dofs())
-    A = petsc_matrix(identity_rows(K, held, 2 * model.first), comm)
-    ksp = PETSc.KSP().create(comm=comm)
+def _original_dofs(model, positions):
+    """The mesh-as-read dofs of owned dof positions."""
+    positions = np.asarray(positions, dtype=int)
+    return 2 * model.owned_original[positions // 2] + positions % 2
+
+
+def _solve_on_rank0(model, held, g0):
+    """u of every node (mesh as read), solved on rank 0 (None elsewhere)."""
+    from vstpetsc.plane.model import spatial_matrices
+
+    M, _, K = spatial_matrices(model.mesh, model.cell_materials)
+    f = np.asarray(M[:, 1::2].sum(axis=1)).ravel() * g0
+    A = petsc_matrix(identity_rows(K, held, 0), PETSc.COMM_SELF)
+    ksp = PETSc.KSP().create(comm=PETSc.COMM_SELF)
     ksp.setOptionsPrefix(PREFIX)
     ksp.setOperators(A)
     ksp.setType("preonly")
     ksp.getPC().setType("lu")
-    if comm.getSize() > 1:
-        ksp.getPC().setFactorSolverType("mumps")
+    ksp.getPC().setFactorOrdering("nd")
     ksp.setFromOptions()
     x, b = A.createVecs()
     rhs = f.copy()
     rhs[held] = 0.0
     b.setArray(rhs)
     ksp.solve(b, x)
-    u = x.getArray(readonly=True).copy()
-    Kmat = petsc_matrix(K, comm)
-    ku = Kmat.createVecLeft()
-    Kmat.mult(x, ku)
-    reaction = np.zeros_like(u)
+    return x.getArray(readonly=True).copy()
+
+
+def static_state(model, gravity_pattern):
+    """The PlaneStatic of ``model`` under the load pattern of g(0), this
+    rank's rows of it ``gravity_pattern`` (collective)."""
+    comm, bounds = model.comm, model.boundaries
+    g0 = float(model.case.gravity.g(np.array([0.0]))[0])
+    held_here = np.union1d(bounds.held_dofs()[0], bounds.absorbing_dofs())
+    held = comm.tompi4py().gather(_original_dofs(model, held_here), root=0)
+    u = _solve_on_rank0(model, np.unique(np.concatenate(held)), g0) \
+        if comm.getRank() == 0 else None
+    u = comm.tompi4py().bcast(u, root=0) if comm.getSize() > 1 else u
+    # the reactions from this rank's rows of K, u in the global numbering
+    local = model.local
+    u_global = np.zeros(2 * model.nnodes)
+    dof = (2 * local.global_vertex[:, None] + np.arange(2)).ravel()
+    u_global[dof] = u.reshape(-1, 2)[local.original].ravel()
+    _, _, K = model.matrices()
+    reaction = np.zeros(K.shape[0])
     free_absorbing = np.setdiff1d(bounds.absorbing_dofs(), bounds.held_dofs()[0])
-    reaction[free_absorbing] = (ku.getArray(readonly=True) - f)[free_absorbing]
-    whole = gather_to_rank0(model, comm)
-    u_all = u if whole is None else whole(u)
-    u_all = comm.tompi4py().bcast(u_all, root=0) if comm.getSize() > 1 else u_all
-    return PlaneStatic(np.asarray(u_all).reshape(-1, 2), (reaction, History(value=1.0)))
+    reaction[free_absorbing] = (K @ u_global - gravity_pattern * g0)[free_absorbing]
+    return PlaneStatic(u.reshape(-1, 2), (reaction, History(value=1.0)))
