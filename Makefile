@@ -72,7 +72,8 @@ formulations: install
 figures: install
 	$(PY) docs/make_figures.py
 
-# openseespy (PyPI) for bench/opensees.py only: `make test` never needs it.
+# openseespy (PyPI) for bench/opensees.py and bench/plane_opensees.py only:
+# `make test` never needs it (their tests skip without it).
 OPENSEES := $(VENV)/.opensees
 
 $(OPENSEES): $(STAMP)
@@ -83,6 +84,7 @@ $(OPENSEES): $(STAMP)
 bench: install $(OPENSEES)
 	$(PY) bench/run.py
 	$(PY) bench/opensees.py
+	$(PY) bench/plane_opensees.py
 	$(PY) bench/parallel_solvers.py
 	$(PY) bench/soil_cost.py
 	$(PY) bench/friction_cost.py 64 7
@@ -99,6 +101,7 @@ bench-quick: install
 
 bench-opensees: install $(OPENSEES)
 	$(PY) bench/opensees.py
+	$(PY) bench/plane_opensees.py
 
 bench-parallel: install
 	$(PY) bench/parallel_solvers.py
