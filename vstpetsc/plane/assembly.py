@@ -70,3 +70,23 @@ def petsc_matrix(A, comm=None):
     n, N = A.shape
     return PETSc.Mat().createAIJ(((n, N), (n, N)), comm=comm or PETSc.COMM_SELF, csr=(
         A.indptr.astype(PETSc.IntType), A.indices.astype(PETSc.IntType), A.data))
+
+
+def identity_rows(A, rows, first):
+    """A (CSR, owned rows; global columns from ``first``) with ``rows``
+    made identities (held unknowns): the held rows' entries dropped and a
+    1 put on their diagonals, on the CSR arrays at once (LIL's row
+    assignment took 5 s for 6.7e4 unknowns; this, milliseconds)."""
+    A = sp.csr_matrix(A)
+    rows = np.asarray(rows, dtype=int)
+    if not rows.size:
+        return A
+    held = np.zeros(A.shape[0], dtype=bool)
+    held[rows] = True
+    counts = np.diff(A.indptr)
+    keep = ~np.repeat(held, counts)
+    counts[held] = 0
+    kept = sp.csr_matrix((A.data[keep], A.indices[keep], np.r_[0, np.cumsum(counts)]),
+                         shape=A.shape)
+    ones = sp.csr_matrix((np.ones(rows.size), (rows, first + rows)), shape=A.shape)
+    return sp.csr_matrix(kept + ones)

@@ -17,8 +17,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.history import History
-from vstpetsc.plane.assembly import petsc_matrix
-from vstpetsc.plane.solver import identity_rows
+from vstpetsc.plane.assembly import identity_rows, petsc_matrix
 
 PREFIX = "vst_static_"
 

@@ -12,11 +12,10 @@ choices).  The running right-hand side, loads, and the time loop of the
 1-D room come next."""
 
 import numpy as np
-import scipy.sparse as sp
 from petsc4py import PETSc
 
 from vstpetsc import slab
-from vstpetsc.plane.assembly import petsc_matrix
+from vstpetsc.plane.assembly import identity_rows, petsc_matrix
 
 PREFIX = "vst_plane_"
 
@@ -24,10 +23,7 @@ PREFIX = "vst_plane_"
 def _held_rows(A, held, first):
     """A (CSR, owned rows) with the held spatial dofs' rows made identities."""
     rows = (2 * (np.asarray(held, dtype=int) - first)[:, None] + np.arange(2)).ravel()
-    A = A.tolil()
-    A[rows, :] = 0.0
-    A[rows, 2 * first + rows] = 1.0
-    return sp.csr_matrix(A), rows
+    return identity_rows(A, rows, 2 * first), rows
 
 
 # On several ranks, slabs of c dt / h (P wave) up to this take GMRES with
