@@ -21,7 +21,6 @@ Writes bench/opensees.json and the section "Against OpenSees" of
 bench/README.md (after bench/run.py, which writes the head and its own sections).
 """
 
-import argparse
 import io
 import json
 import math
@@ -36,7 +35,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.append(os.path.join(os.path.dirname(HERE), "tests"))
 
-from readme import write_readme  # noqa: E402
+from readme import bench_arguments, results_and_section, write_readme  # noqa: E402,F401
 from references.waves import (AMP, AREA, E, LENGTH, RHO, SITE, V0,  # noqa: E402
                               case_doc, evaluate, job_for, metrics, node_masses, problem,
                               site_incident)
@@ -361,26 +360,13 @@ def table_row(name, row, runs):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
-    ap.add_argument("--readme-only", action="store_true",
-                    help="rewrite the README section from bench/opensees.json")
-    ap.add_argument("--out", default=HERE)
+    ap = bench_arguments("opensees", HERE)
     args = ap.parse_args(argv)
     if args.worker:
         return worker()
-    json_path = os.path.join(args.out, "opensees.json")
-    if args.readme_only:
-        with open(json_path) as f:
-            res = json.load(f)
-    else:
-        res = measure(args.quick, log=lambda s: print(s, flush=True))
-        os.makedirs(args.out, exist_ok=True)
-        with open(json_path, "w") as f:
-            json.dump(res, f, indent=1)
-    write_readme(os.path.join(args.out, "README.md"), section(res))
-    print(f"wrote {json_path} and the section {SECTION!r} of README.md")
+    results_and_section(args.out, "opensees", args.readme_only,
+                        lambda: measure(args.quick, log=lambda s: print(s, flush=True)),
+                        section, SECTION)
     return 0
 
 

@@ -88,7 +88,6 @@ Writes bench/plane_opensees.json and the section "Plane strain against
 OpenSees" of bench/README.md.
 """
 
-import argparse
 import json
 import math
 import os
@@ -101,7 +100,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.append(HERE)
 
-from readme import write_readme  # noqa: E402
+from readme import bench_arguments, results_and_section, write_readme  # noqa: E402,F401
 
 # the material (nu = 1/4: Vp = sqrt(3) Vs) and the square
 LENGTH, E, NU, RHO = 10.0, 2.0e8, 0.25, 2000.0
@@ -590,12 +589,7 @@ def single_run(method, n, courant):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
-    ap.add_argument("--readme-only", action="store_true",
-                    help="rewrite the README section from bench/plane_opensees.json")
-    ap.add_argument("--out", default=HERE)
+    ap = bench_arguments("plane_opensees", HERE)
     ap.add_argument("--run", nargs=3, metavar=("METHOD", "N", "COURANT"),
                     help="one run beyond the cap, e.g. --run 'opensees bbarQuad' 362 1: "
                          "its error and time, nothing written")
@@ -604,17 +598,9 @@ def main(argv=None):
         return worker()
     if args.run:
         return single_run(args.run[0], int(args.run[1]), float(args.run[2]))
-    json_path = os.path.join(args.out, "plane_opensees.json")
-    if args.readme_only:
-        with open(json_path) as f:
-            res = json.load(f)
-    else:
-        res = measure(args.quick, log=lambda s: print(s, flush=True))
-        os.makedirs(args.out, exist_ok=True)
-        with open(json_path, "w") as f:
-            json.dump(res, f, indent=1)
-    write_readme(os.path.join(args.out, "README.md"), section(res))
-    print(f"wrote {json_path} and the section {SECTION!r} of README.md")
+    results_and_section(args.out, "plane_opensees", args.readme_only,
+                        lambda: measure(args.quick, log=lambda s: print(s, flush=True)),
+                        section, SECTION)
     return 0
 
 

@@ -5,6 +5,40 @@ add their own."""
 import os
 
 
+def bench_arguments(name, here):
+    """The options of a bench that measures in a worker and keeps its
+    results in NAME.json: --quick, --worker, --readme-only, --out."""
+    import argparse
+
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--readme-only", action="store_true",
+                    help=f"rewrite the README section from bench/{name}.json")
+    ap.add_argument("--out", default=here)
+    return ap
+
+
+def results_and_section(out, name, readme_only, measure, section, title):
+    """A bench's results: measured (``measure()``) and kept in
+    OUT/NAME.json, or read back from it (``readme_only``); then its section
+    ``title`` of OUT/README.md written from them (``section(results)``)."""
+    import json
+
+    json_path = os.path.join(out, f"{name}.json")
+    if readme_only:
+        with open(json_path) as f:
+            res = json.load(f)
+    else:
+        res = measure()
+        os.makedirs(out, exist_ok=True)
+        with open(json_path, "w") as f:
+            json.dump(res, f, indent=1)
+    write_readme(os.path.join(out, "README.md"), section(res))
+    print(f"wrote {json_path} and the section {title!r} of README.md")
+    return res
+
+
 def write_readme(path, text):
     """Replace (or append) the section that ``text`` is (its first line,
     "## Title", names it) in README.md, leaving the rest."""
