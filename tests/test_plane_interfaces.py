@@ -92,3 +92,38 @@ def test_a_curve_on_the_boundary_is_refused():
         split(m, "bottom")
     with pytest.raises(ValueError, match="no curve 'nowhere'"):
         split(m, "nowhere")
+
+
+def test_stiff_springs_across_the_split_weld_it_back():
+    """A closed, sticking interface's linear part: springs joining each
+    pair (interfaces.spring_matrix) added to the split square's K. Its
+    lowest natural frequencies approach the unsplit square's as the
+    springs stiffen, the gap falling as 1 / stiffness (the springs'
+    compliance); the springs strain nothing under rigid motions."""
+    import scipy.linalg
+
+    from vstpetsc.plane.interfaces import spring_matrix
+
+    m = with_joint(False)
+    s, pairs = split(m, "joint")
+    held = lambda mesh: (2 * np.flatnonzero(np.isclose(mesh.coordinates[:, 1], 0.0))[:, None]
+                         + np.arange(2)).ravel()
+
+    def lowest(mesh, K_extra=None):
+        M, K = (a.toarray() for a in assembly.matrices(mesh, LAM, MU, RHO))
+        if K_extra is not None:
+            K = K + K_extra.toarray()
+        free = np.setdiff1d(np.arange(M.shape[0]), held(mesh))
+        return scipy.linalg.eigh(K[np.ix_(free, free)], M[np.ix_(free, free)],
+                                 eigvals_only=True)[:4]
+
+    welded = lowest(m)
+    gaps = []
+    for k in (1e10, 1e11, 1e12):
+        springs = spring_matrix(pairs, k, k, s.nnodes)
+        rigid = np.zeros(2 * s.nnodes)
+        rigid[0::2], rigid[1::2] = 1.0, 0.5                     # a translation
+        assert np.abs(springs @ rigid).max() <= 1e-12 * k
+        gaps.append(np.abs(lowest(s, springs) / welded - 1).max())
+    print("springs across the joint: lowest four frequencies' gap", gaps)
+    assert gaps[0] < 1e-2 and gaps[1] < gaps[0] / 5 and gaps[2] < gaps[1] / 5

@@ -191,3 +191,26 @@ def _pairs(mesh, name, edges, doubled, new):
     tangent = np.column_stack([normal[:, 1], -normal[:, 0]])
     return NodePairs(name, np.column_stack([doubled, new[doubled]]), normal, tangent,
                      share[doubled])
+
+
+def spring_matrix(pairs, normal_stiffness, tangent_stiffness, nnodes):
+    """The stiffness (2 nn, 2 nn CSR) of linear springs joining each pair's
+    two nodes, per unit length along the normal and the tangent (times the
+    pair's tributary length): a closed, sticking interface's linear part
+    (the pairs' penalty and stick springs), to be added to K, so that such
+    an interface costs no more per slab than the welded mesh."""
+    n, t, length = pairs.normal, pairs.tangent, pairs.length
+    block = length[:, None, None] * (
+        np.asarray(normal_stiffness, float) * np.einsum("ma,mb->mab", n, n)
+        + np.asarray(tangent_stiffness, float) * np.einsum("ma,mb->mab", t, t))
+    first, second = pairs.nodes[:, 0], pairs.nodes[:, 1]
+    rows, cols, vals = [], [], []
+    for p, q, sign in ((first, first, 1.0), (second, second, 1.0),
+                       (first, second, -1.0), (second, first, -1.0)):
+        dp = 2 * p[:, None] + np.arange(2)
+        dq = 2 * q[:, None] + np.arange(2)
+        rows.append(np.repeat(dp, 2, axis=1).ravel())
+        cols.append(np.tile(dq, (1, 2)).ravel())
+        vals.append(sign * block.ravel())
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(2 * nnodes, 2 * nnodes))
