@@ -56,6 +56,7 @@ class PlaneSolver:
         self.C = None if C is None else petsc_matrix(C, comm)
         # the unconstrained rows' product gives the reactions of moving held dofs
         self.A_free = None if loads.all_fixed else petsc_matrix(A, comm)
+        self.ax = None if self.A_free is None else self.A_free.createVecLeft()
         self.A = petsc_matrix(identity_rows(A, self.rows, 4 * first), comm)
         del A
         model.release_matrices()
@@ -69,6 +70,7 @@ class PlaneSolver:
         self.u, self.v = np.zeros(n), np.zeros(n)
         self.sums = np.zeros(len(SUMS))
         self.forces = None
+        self._products_fresh = False
         self.restart = PlaneRestart(self)
         self.to_rank0 = gather_to_rank0(model, comm)
 
@@ -84,12 +86,22 @@ class PlaneSolver:
         own = self.model.owned_original
         self.u[:] = np.asarray(u).reshape(-1, 2)[own].ravel()
         self.v[:] = np.asarray(v).reshape(-1, 2)[own].ravel()
+        self._products_fresh = False
 
-    def rhs(self, forces, velocities, fields=None):
+    def _state_products(self):
+        """M v and K u of the state (u, v), in ``mv`` and ``ku``: formed once
+        per state, for a slab's right-hand side and a kept row's energies
+        alike."""
+        if self._products_fresh:
+            return
         self.v_vec.setArray(self.v)
         self.u_vec.setArray(self.u)
         self.M.mult(self.v_vec, self.mv)
         self.K.mult(self.u_vec, self.ku)
+        self._products_fresh = True
+
+    def rhs(self, forces, velocities, fields=None):
+        self._state_products()
         ku = self.ku.getArray(readonly=True)
         r = self.b.getArray()
         r[0::2] = self.mv.getArray(readonly=True) - 0.5 * self.dt * ku
@@ -123,9 +135,11 @@ class PlaneSolver:
             self.sums[1] += self._reaction_work(x)
         self.u += 0.5 * self.dt * (v1 + v2)
         self.v[:] = v2
+        self._products_fresh = False
 
     def _damping(self, v1, v2):
         """This rank's v1 C v1 + v1 C v2 + v2 C v2 (rows it owns)."""
+        self._products_fresh = False          # v_vec holds v1, v2 now
         self.v_vec.setArray(v1)
         self.C.mult(self.v_vec, self.c1)
         self.v_vec.setArray(v2)
@@ -135,21 +149,16 @@ class PlaneSolver:
 
     def _reaction_work(self, x):
         """The held dofs' reactions' work in the slab: (A x - r) . x on their rows."""
-        y = self.A_free.createVecLeft()
-        self.A_free.mult(self.x, y)
-        reaction = y.getArray(readonly=True)[self.rows] - self.r_free
+        self.A_free.mult(self.x, self.ax)
+        reaction = self.ax.getArray(readonly=True)[self.rows] - self.r_free
         return float(reaction @ x[self.rows])
 
     def totals(self):
         """The energy sums and the state's kinetic and strain energy over
         every rank (collective)."""
-        self.v_vec.setArray(self.v)
-        self.u_vec.setArray(self.u)
-        self.M.mult(self.v_vec, self.mv)
-        self.K.mult(self.u_vec, self.ku)
+        self._state_products()
         kinetic, strain = 0.5 * self.mv.dot(self.v_vec), 0.5 * self.ku.dot(self.u_vec)
-        sums = self.space.sum_over_ranks(self.sums) if not self.serial else self.sums
-        out = dict(zip(SUMS, map(float, sums)))
+        out = dict(zip(SUMS, map(float, self.space.sum_over_ranks(self.sums))))
         out.update(kinetic=float(kinetic), strain=float(strain))
         return out
 
@@ -159,6 +168,7 @@ class PlaneSolver:
         self.set_state(u, v)
         totals = self.totals()
         self.u[:], self.v[:] = keep
+        self._products_fresh = False
         return totals["kinetic"], totals["strain"]
 
     def gather_state(self):
