@@ -207,11 +207,8 @@ class TimeLoop:
                 raise
         else:
             k0, rhs, envelopes = 0, None, None
-            u, v = model.initial_state() if case.plane is not None else \
-                model_mod.initial_state(model)
-            if self.static is not None and case.plane is not None:
-                u = u + self.static.u
-            elif self.static is not None:
+            u, v = model.initial_state()
+            if self.static is not None:
                 u, v = u + self.static.u, v + self.static.v
             self.energy.start(u, v)
         energy0 = self.energy.held0
@@ -309,10 +306,9 @@ def header(case, model, output, solver, size):
 
 def describe_model(case, model, output):
     """The model summary: bodies, nodes, slabs, and a line per law."""
-    if case.plane is not None:
-        return (f"vstpetsc: {case.source}\n  dt = {case.dt:g}, {case.nslabs} slabs to t = "
-                f"{case.nslabs * case.dt:g}; keep every {case.every}; result: {output}\n"
-                + model.describe())
+    if case.plane is not None:          # printed on rank 0, which holds the whole mesh
+        from vstpetsc.plane.model import summary
+        return summary(case, output, model.mesh)
     mesh = model.mesh
     lines = [f"vstpetsc: {case.source}",
              f"  {len(case.bodies)} bodies, {mesh.nnodes} nodes, {mesh.elem_node.size} "

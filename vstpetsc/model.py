@@ -155,6 +155,11 @@ class Model:
     def recorded(self):
         return [law for law in self.laws if law.group is not None]
 
+    def initial_state(self):
+        """Nodal u0 and v0 (:func:`initial_state`), as a plane-strain model
+        gives its own."""
+        return initial_state(self)
+
 
 def build_model(case):
     """Mesh the bodies, assemble M and K, build the laws and let them add

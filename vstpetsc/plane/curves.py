@@ -119,8 +119,3 @@ class Boundaries:
         nodes = [n for n, _ in self.blocks]
         nodes = np.unique(np.concatenate(nodes)) if nodes else np.zeros(0, dtype=int)
         return (2 * nodes[:, None] + np.arange(2)).ravel()
-
-    def describe(self):
-        return [f"boundary {s.name}: {s.type}" + (", incident wave" if s.incident else "")
-                for s in self.specs]
-

@@ -44,11 +44,16 @@ class PlaneLoads:
         return forces, velocities[i], None
 
 
-def gravity_pattern(model):
-    """The nodal pattern of a unit body force along +y: the mass matrix's
-    rows times the unit field along y (int rho N_a dA on y dofs)."""
-    M = model.matrices()[0]
+def unit_gravity(M):
+    """The nodal pattern of a unit body force along +y: the rows of the
+    mass matrix M (CSR, interleaved dofs) times the unit field along y
+    (int rho N_a dA on y dofs)."""
     return np.asarray(M[:, 1::2].sum(axis=1)).ravel()
+
+
+def gravity_pattern(model):
+    """unit_gravity of this rank's rows of the model's M."""
+    return unit_gravity(model.matrices()[0])
 
 
 def plane_loads(model, dt, extra=()):

@@ -56,12 +56,14 @@ def check_names(case, mesh):
                              "of the mesh")
 
 
-def summary(case, output):
-    """What a run of ``case`` would solve (`vstpetsc run --dry-run`): the
-    mesh read and checked against the tables, its size, each region's
-    speeds and Courant number; InputError as a run would raise it."""
-    mesh = read_mesh(case.plane.mesh)
-    check_names(case, mesh)
+def summary(case, output, mesh=None):
+    """What a run of ``case`` solves (the run's header, and `vstpetsc run
+    --dry-run`, which reads and checks the mesh here: InputError as a run
+    would raise it): its size, each region's speeds and Courant number,
+    its boundaries."""
+    if mesh is None:
+        mesh = read_mesh(case.plane.mesh)
+        check_names(case, mesh)
     lines = [f"vstpetsc: {case.source}",
              f"  dt = {case.dt:g}, {case.nslabs} slabs to t = {case.nslabs * case.dt:g}; keep "
              f"every {case.every}; result: {output}",
@@ -163,15 +165,6 @@ class PlaneModel:
         local = float(np.max(vp * dt / cell_sizes(self.local.mesh), initial=0.0))
         from mpi4py import MPI
         return self.comm.tompi4py().allreduce(local, op=MPI.MAX)
-
-    def describe(self):
-        lines = [f"  plane strain: {self.ncells} cells, {self.nnodes} nodes, "
-                 f"{len(self.case.plane.regions)} regions"]
-        dt = self.case.dt
-        for r in self.case.plane.regions:
-            lines.append(f"  region {r.name}: Vp = {r.vp:.6g}, Vs = {r.vs:.6g}, rho = {r.rho:g}, "
-                         f"Vp dt = {r.vp * dt:.3g}")
-        return "\n".join(lines + [f"  {line}" for line in self.boundaries.describe()])
 
     def initial_state(self):
         """(u, v) of every node (interleaved (x, y), the mesh's numbering as

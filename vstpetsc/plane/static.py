@@ -27,6 +27,11 @@ class PlaneStatic:
     u: np.ndarray           # (nn, 2) of every node, the mesh's numbering as read (every rank)
     reactions: tuple        # (pattern over the owned dofs, History 1): the kept forces
 
+    @property
+    def v(self):
+        """At rest (the 1-D static start's v, for the time loop's sum)."""
+        return np.zeros_like(self.u)
+
 
 def _original_dofs(model, positions):
     """The mesh-as-read dofs of owned dof positions."""
@@ -36,10 +41,11 @@ def _original_dofs(model, positions):
 
 def _solve_on_rank0(model, held, g0):
     """u of every node (mesh as read), solved on rank 0 (None elsewhere)."""
+    from vstpetsc.plane.loads import unit_gravity
     from vstpetsc.plane.model import spatial_matrices
 
     M, _, K = spatial_matrices(model.mesh, model.cell_materials)
-    f = np.asarray(M[:, 1::2].sum(axis=1)).ravel() * g0
+    f = unit_gravity(M) * g0
     A = petsc_matrix(identity_rows(K, held, 0), PETSc.COMM_SELF)
     ksp = PETSc.KSP().create(comm=PETSc.COMM_SELF)
     ksp.setOptionsPrefix(PREFIX)
