@@ -235,13 +235,12 @@ class TimeLoop:
 
     def _attrs(self, petsc_options):
         """The root attributes of the result file."""
-        case = self.case
+        case, lay = self.case, layouts.of(self.model)
         return {"case": case.text, "case_folder": case.folder,
                 "input_digests": json.dumps(case.input_digests, sort_keys=True),
                 "petsc_options": petsc_options,
                 "mpi_size": self.comm.getSize(),
-                "formulation": layouts.of(self.model).formulation(self.model),
-                **({"dimension": 2} if case.plane is not None else {}),
+                "formulation": lay.formulation(self.model), **lay.root_attrs(),
                 "dt": case.dt, "slabs": case.nslabs, "every": case.every,
                 **{f"unit_{k}": v for k, v in case.units.items()},
                 "solver": self.solver.describe()}

@@ -124,6 +124,12 @@ def group_attrs(model):
     return {**by_group(model.recorded, lambda law: law.attrs()), **Gauges(model).attrs()}
 
 
+def root_attrs():
+    """The root attributes of the geometry: none for bodies on a line (a
+    2-D file has ``dimension``, results/plane_layout.py)."""
+    return {}
+
+
 def formulation(model):
     """The root attribute ``formulation``: the pairs' formulations."""
     forms = sorted({law.formulation for law in model.recorded if law.formulation})

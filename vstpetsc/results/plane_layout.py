@@ -16,7 +16,6 @@ from vstpetsc.results.layout import ENERGY, SOLVER, TIME
 MESH = "mesh"
 FIELD = "field"
 DIMENSION = "dimension"
-FIELDS = ("u", "v", "stress")
 REQUIRED = ("time", MESH, FIELD, "energy", "solver")
 
 
@@ -57,6 +56,11 @@ def event_sets(model):
 
 def formulation(model):
     return "none"
+
+
+def root_attrs():
+    """The root attributes that mark a 2-D file (a 1-D file has none)."""
+    return {DIMENSION: 2}
 
 
 def envelope_snapshots(model, lo, hi):
