@@ -16,16 +16,10 @@ AXES = {"x": 0, "y": 1}
 def edge_cells(mesh, edges):
     """The cell holding each edge (m, 2) (a curve's edge on the domain's
     boundary has one; an inner curve's: the first found)."""
-    corners = np.where(mesh.cells[:, 3] < 0, 3, 4)
-    nxt = np.where(np.arange(4)[None, :] + 1 < corners[:, None], np.arange(1, 5)[None, :], 0)
-    a = mesh.cells
-    b = np.take_along_axis(mesh.cells, nxt, axis=1)
-    valid = np.arange(4)[None, :] < corners[:, None]
-    n = max(mesh.nnodes, 1)
-    keys = (np.minimum(a, b) * n + np.maximum(a, b))[valid]
-    owner = np.repeat(np.arange(mesh.ncells), 4).reshape(-1, 4)[valid]
+    owner, a, b = mesh.edges()
+    keys = mesh.edge_keys(a, b)
     order = np.argsort(keys, kind="stable")
-    want = np.minimum(edges[:, 0], edges[:, 1]) * n + np.maximum(edges[:, 0], edges[:, 1])
+    want = mesh.edge_keys(edges[:, 0], edges[:, 1])
     return owner[order[np.searchsorted(keys[order], want)]]
 
 

@@ -38,28 +38,11 @@ class NodePairs:
     length: np.ndarray
 
 
-def cell_edges(mesh):
-    """(cells (k,), first node (k,), second node (k,)) of every cell's
-    edges, counter-clockwise: a triangle's three, a quadrilateral's four."""
-    corners = np.where(mesh.cells[:, 3] < 0, 3, 4)
-    valid = np.arange(4)[None, :] < corners[:, None]
-    following = np.where(np.arange(4)[None, :] + 1 < corners[:, None], np.arange(1, 5), 0)
-    a = mesh.cells
-    b = np.take_along_axis(mesh.cells, following, axis=1)
-    cells = np.broadcast_to(np.arange(mesh.ncells)[:, None], a.shape)
-    return cells[valid], a[valid], b[valid]
-
-
-def _keys(a, b, n):
-    return np.minimum(a, b) * n + np.maximum(a, b)
-
-
 def _inner_check(mesh, name, edges):
     """ValueError unless every edge of the curve lies between two cells."""
-    _, a, b = cell_edges(mesh)
-    n = max(mesh.nnodes, 1)
-    keys, counts = np.unique(_keys(a, b, n), return_counts=True)
-    twice = counts[np.searchsorted(keys, _keys(edges[:, 0], edges[:, 1], n))] == 2
+    _, a, b = mesh.edges()
+    keys, counts = np.unique(mesh.edge_keys(a, b), return_counts=True)
+    twice = counts[np.searchsorted(keys, mesh.edge_keys(edges[:, 0], edges[:, 1]))] == 2
     if not twice.all():
         x, y = mesh.coordinates[edges[~twice][0]].mean(axis=0)
         raise ValueError(f"curve {name!r} runs along the mesh's boundary at ({x:g}, {y:g}): "
@@ -82,9 +65,9 @@ def corner_sides(mesh, edges):
     order = np.argsort(key)
     # two cells sharing an edge (p, q) that is not on the curve join their
     # corners at p and at q
-    cells, a, b = cell_edges(mesh)
-    ek = _keys(a, b, n)
-    curve_keys = np.sort(_keys(edges[:, 0], edges[:, 1], n))
+    cells, a, b = mesh.edges()
+    ek = mesh.edge_keys(a, b)
+    curve_keys = np.sort(mesh.edge_keys(edges[:, 0], edges[:, 1]))
     hit = np.searchsorted(curve_keys, ek)
     along = (hit < curve_keys.size) & (curve_keys[np.minimum(hit, curve_keys.size - 1)] == ek)
     keep = ~along & (on_curve[a] | on_curve[b])
@@ -151,7 +134,7 @@ def _second_side_groups(mesh, edges, corner_cell, corner_node, labels):
 
 def _left_cells(mesh, edges):
     """The cell on the left of each directed edge (a, b)."""
-    cells, a, b = cell_edges(mesh)
+    cells, a, b = mesh.edges()
     n = max(mesh.nnodes, 1)
     # a cell's counter-clockwise edge (a, b) has the cell on its left
     directed = a.astype(np.int64) * n + b

@@ -48,6 +48,21 @@ class PlaneMesh:
     def quadrilaterals(self):
         return np.flatnonzero(self.cells[:, 3] >= 0)
 
+    def edges(self):
+        """(cells (k,), first node (k,), second node (k,)) of every cell's
+        edges, counter-clockwise: a triangle's three, a quadrilateral's four."""
+        corners = np.where(self.cells[:, 3] < 0, 3, 4)
+        valid = np.arange(4)[None, :] < corners[:, None]
+        following = np.where(np.arange(4)[None, :] + 1 < corners[:, None], np.arange(1, 5), 0)
+        b = np.take_along_axis(self.cells, following, axis=1)
+        cells = np.broadcast_to(np.arange(self.ncells)[:, None], self.cells.shape)
+        return cells[valid], self.cells[valid], b[valid]
+
+    def edge_keys(self, a, b):
+        """One integer per undirected edge (a, b)."""
+        n = max(self.nnodes, 1)
+        return np.minimum(a, b).astype(np.int64) * n + np.maximum(a, b)
+
     def curve_nodes(self, name):
         """The sorted nodes of a named curve."""
         return np.unique(self.curves[name])
