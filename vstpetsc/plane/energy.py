@@ -13,35 +13,7 @@ Stresses at the cells' centres, sigma_xx, sigma_yy, sigma_xy.  Pure numpy."""
 import numpy as np
 
 from vstpetsc import energy as shared
-
 from vstpetsc.plane import elements
-
-
-class EnergyBook:
-    """The running energy terms of a serial plane-strain run."""
-
-    def __init__(self, M, C, K, dt, u, v):
-        self.M, self.C, self.K, self.dt = M, C, K, dt
-        self.initial = self._held(u, v)
-        self.damping = self.external = 0.0
-
-    def _held(self, u, v):
-        return 0.5 * float(v @ (self.M @ v)) + 0.5 * float(u @ (self.K @ u))
-
-    def add_slab(self, v1, v2, forces=None):
-        """The slab of start and end velocities v1, v2 (forces: its int T_a f
-        dt interleaved per dof, or None)."""
-        if self.C is not None:
-            c1, c2 = self.C @ v1, self.C @ v2
-            self.damping += self.dt * float(v1 @ c1 + v1 @ c2 + v2 @ c2) / 3.0
-        if forces is not None:
-            self.external += float(forces[0::2] @ v1 + forces[1::2] @ v2)
-
-    def terms(self, u, v):
-        kinetic, strain = 0.5 * float(v @ (self.M @ v)), 0.5 * float(u @ (self.K @ u))
-        numerical = self.initial + self.external - kinetic - strain - self.damping
-        return {"kinetic": kinetic, "strain": strain, "damping": self.damping,
-                "external": self.external, "numerical": numerical}
 
 
 def centre_stress(mesh, u, lam, mu):
