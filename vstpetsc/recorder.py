@@ -31,12 +31,8 @@ class Recorder:
             self.rows.offload(solver.u, solver.v, solver.elongation(), RowCopier.of)
         self.gauges = self.layout.gauges(model)
         self.start = time.perf_counter()
-        if len(self.gauges) and hasattr(solver, "probe"):
+        if len(self.gauges):
             self.probe = solver.probe(self.gauges.nodes)
-            self.gauge_values = np.zeros(4 * len(self.gauges))
-        elif len(self.gauges):
-            from vstpetsc.petsc.probe import NodeValues
-            self.probe = NodeValues(solver, self.gauges.nodes)
             self.gauge_values = np.zeros(4 * len(self.gauges))
 
     def _agree(self, action):

@@ -220,6 +220,12 @@ class SlabSolver:
         (the envelopes' own; None on several ranks)."""
         return self.envelope.buf if self.serial else None
 
+    def probe(self, nodes):
+        """A callable giving (u, v) at the global ``nodes`` on rank 0 (None
+        elsewhere), between slabs: the gauges' values."""
+        from vstpetsc.petsc.probe import NodeValues
+        return NodeValues(self, nodes)
+
     def envelopes(self, nelements):
         """Elongation envelopes (lo, hi) of every element on rank 0 (None
         elsewhere)."""
