@@ -9,8 +9,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from vstpetsc.plane import boundaries
+from vstpetsc.plane.schema import COMPONENTS
 
-AXES = {"x": 0, "y": 1}
+AXES = {c: i for i, c in enumerate(COMPONENTS)}     # a component's column
 
 
 def edge_cells(mesh, edges):

@@ -44,6 +44,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from vstpetsc.gauges import SERIES as GAUGE_SERIES, SHEAR
+from vstpetsc.plane.schema import COMPONENTS
 from vstpetsc.results import layout, plane_layout
 
 KEPT_GROUPS = ("energy", "solver")
@@ -51,7 +52,6 @@ SHEAR_GROUP = "shear"       # /body/<name>/shear: the shear component's datasets
 PLANE_GRID = "mesh"         # the name of a plane-strain result's temporal collection
 PLANE_FIELDS = (("u", "Node"), ("v", "Node"), ("stress", "Cell"))
 XDMF_TRIANGLE, XDMF_QUADRILATERAL = 4, 5     # XDMF's codes of cells in a Mixed topology
-PLANE_AXES = ("x", "y")     # the columns of a plane-strain gauge's u and v
 
 
 def _write_csv(path, columns):
@@ -107,7 +107,7 @@ def _gauge_columns(header, values):
     gauge's (n, 2) series as two columns, ``header``_x and ``header``_y."""
     if np.ndim(values) == 1:
         return {header: values}
-    return {f"{header}_{axis}": values[:, k] for k, axis in enumerate(PLANE_AXES)}
+    return {f"{header}_{axis}": values[:, k] for k, axis in enumerate(COMPONENTS)}
 
 
 def _events_csv(result, folder):

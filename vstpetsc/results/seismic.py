@@ -5,10 +5,11 @@ tables and their one-screen summaries, and the peak profiles over x that
 
 import numpy as np
 
+from vstpetsc.plane import schema as plane_schema
 from vstpetsc.results import layout
 
 COMPONENTS = ("shear", "axial")
-PLANE_COMPONENTS = ("x", "y")        # a plane-strain gauge's columns of v
+PLANE_COMPONENTS = plane_schema.COMPONENTS      # a plane-strain gauge's columns of v
 BAND = 0.01                          # the summary's band: input amplitude >= 1 % of its peak
 STRAIN_MAX = "shear/strain_max"      # the largest |dw/dx| per element, when the law writes it
 
