@@ -7,9 +7,10 @@ On one rank the spatial matrices are whole CSR; on several each rank
 gives the CSR of the rows it owns (global columns; its dofs from
 ``first``), vstpetsc.plane.distributed.  The linear solver: options
 prefix ``vst_plane_``; by default PETSc's LU (nested dissection) on one
-rank and MUMPS's on several (bench/plane_solvers.py measures the
-choices).  The running right-hand side, loads, and the time loop of the
-1-D room come next."""
+rank, on several GMRES with ASM(ILU(0)) blocks up to Vp dt / h = 2 and
+MUMPS's LU beyond (bench/plane_solvers.py measures the choices).  A run
+uses the linear solver through vstpetsc.plane.solver; PlaneSlabs steps
+bare M, K for the tests and benches that need no case."""
 
 import numpy as np
 from petsc4py import PETSc
