@@ -166,7 +166,20 @@ def test_a_restart_continues_bit_for_bit(tmp_path):
 
 BAD = [
     ("body", "[[body]]\nname = 'b'\n", "body: [[body]] is a 1-D table"),
-    ("interface", "[[interface]]\nname = 'contact'\n", "interface: [[interface]] is not built"),
+    ("interface curve", "[[interface]]\nname = 'contact'\n",
+     "interface[0] (contact).name: the mesh has no curve 'contact'"),
+    ("interface on the boundary", "[[interface]]\nname = 'top'\n",
+     "interface[0] (top).name: curve 'top' runs along the mesh's boundary"),
+    ("interface with a boundary", "[[boundary]]\nname = 'top'\ntype = 'fixed'\n"
+     "[[interface]]\nname = 'top'\n", "interface[0] (top).name: curve 'top' has a [[boundary]]"),
+    ("negative friction", "[[interface]]\nname = 'top'\nfriction = -0.1\n",
+     "interface[0] (top).friction"),
+    ("formulation", "[[interface]]\nname = 'top'\nformulation = 'lagrange'\n",
+     "interface[0] (top).formulation"),
+    ("penalty", "[[interface]]\nname = 'top'\npenalty = 0.0\n", "interface[0] (top).penalty"),
+    ("interface key", "[[interface]]\nname = 'top'\nfricton = 0.3\n",
+     "interface[0].fricton: unknown key"),
+    ("joint off the grid", "JOINT", "mesh.rectangle.joints.joint: must be the y of a grid row"),
     ("region name", None, "region[0] (dam).name: the mesh has no region 'dam'"),
     ("boundary name", "[[boundary]]\nname = 'nowhere'\ntype = 'fixed'\n",
      "boundary[0] (nowhere).name: the mesh has no curve 'nowhere'"),
@@ -200,9 +213,11 @@ def test_bad_inputs_exit_2_with_one_line(tmp_path, what, extra, message):
         f"rectangle = {{ x = {x}, y = [0.0, 2.0], nx = 2, ny = 1 }}"
     if extra == "MESHES":
         mesh += "\ndam = { height = 1.0 }"
+    if extra == "JOINT":
+        mesh = mesh.replace(" }", ", joints = { joint = 0.5 } }")
     text = (f"[time]\ndt = 1e-3\nend = 0.01\n[mesh]\n{mesh}\n[[region]]\n{region}\n{speeds}\n"
             f"rho = 2000.0\n" + (extra if extra not in (None, "FILE", "VP", "MESHES", "REVERSED",
-                                                       "HUGE") else ""))
+                                                       "HUGE", "JOINT") else ""))
     case = tmp_path / "bad.toml"
     case.write_text(text)
     p = run_cli("run", case, "-o", tmp_path / "bad.h5", "-q")

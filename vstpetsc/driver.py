@@ -307,7 +307,7 @@ def describe_model(case, model, output):
     """The model summary: bodies, nodes, slabs, and a line per law."""
     if case.plane is not None:          # printed on rank 0, which holds the whole mesh
         from vstpetsc.plane.model import summary
-        return summary(case, output, model.mesh)
+        return summary(case, output, model.mesh, model.infos)
     mesh = model.mesh
     lines = [f"vstpetsc: {case.source}",
              f"  {len(case.bodies)} bodies, {mesh.nnodes} nodes, {mesh.elem_node.size} "

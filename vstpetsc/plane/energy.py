@@ -37,7 +37,8 @@ def centre_stress(mesh, u, lam, mu):
 class RunEnergyBook(shared.EnergyBook):
     """The shared EnergyBook (the rows' terms, restarts, the peak) over a
     plane-strain solver: the state's kinetic and strain energy come with
-    the solver's totals (summed over the ranks); no springs."""
+    the solver's totals (summed over the ranks); no springs but the
+    interfaces' (their energy is "contact")."""
 
     def __init__(self, model, solver):
         self.model, self.solver = model, solver
@@ -50,8 +51,18 @@ class RunEnergyBook(shared.EnergyBook):
         return {"kinetic": kinetic, "strain": strain, "spring": 0.0}
 
     def start(self, u, v):
+        """t = 0: the state's energies and, with interfaces, their pairs'
+        state from u (the gaps; a static start's stick springs) and the
+        energy their springs store (vstpetsc.plane.pairs)."""
         self.first = self.solver.held_energies(u, v)         # collective
         self.held0 = self.initial = sum(self.first)
+        pairs = self.model.pairs
+        if pairs is not None:
+            gravity = self.model.case.gravity
+            pairs.start(np.asarray(u).reshape(-1, 2),
+                        static=gravity is not None and gravity.initial == "static")
+            self.offset["contact"] = pairs.stored_energy()
+            self.initial += self.offset["contact"]
         self.peak = abs(self.initial)
 
     def row(self, u, v, totals, d=None, known=None):

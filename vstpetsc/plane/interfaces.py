@@ -178,14 +178,15 @@ def _pairs(mesh, name, edges, doubled, new):
 
 def spring_matrix(pairs, normal_stiffness, tangent_stiffness, nnodes):
     """The stiffness (2 nn, 2 nn CSR) of linear springs joining each pair's
-    two nodes, per unit length along the normal and the tangent (times the
-    pair's tributary length): a closed, sticking interface's linear part
+    two nodes, per unit length along the normal and the tangent (one value
+    or one per pair; times the pair's tributary length): a closed, sticking interface's linear part
     (the pairs' penalty and stick springs), to be added to K, so that such
     an interface costs no more per slab than the welded mesh."""
     n, t, length = pairs.normal, pairs.tangent, pairs.length
-    block = length[:, None, None] * (
-        np.asarray(normal_stiffness, float) * np.einsum("ma,mb->mab", n, n)
-        + np.asarray(tangent_stiffness, float) * np.einsum("ma,mb->mab", t, t))
+    kn, kt = (np.reshape(np.asarray(k, float), (-1, 1, 1)) for k in (normal_stiffness,
+                                                                   tangent_stiffness))
+    block = length[:, None, None] * (kn * np.einsum("ma,mb->mab", n, n)
+                                     + kt * np.einsum("ma,mb->mab", t, t))
     first, second = pairs.nodes[:, 0], pairs.nodes[:, 1]
     rows, cols, vals = [], [], []
     for p, q, sign in ((first, first, 1.0), (second, second, 1.0),

@@ -101,10 +101,13 @@ class PlaneMesh:
         return 0.5 * np.sum(x * np.roll(y, -1, axis=1) - np.roll(x, -1, axis=1) * y, axis=1)
 
 
-def rectangle(x, y, nx, ny, triangles=False):
+def rectangle(x, y, nx, ny, triangles=False, joints=None):
     """The structured mesh of [x0, x1] x [y0, y1] with nx x ny quadrilaterals
     (each split into two triangles along its rising diagonal when
-    ``triangles``): region "domain", curves "left", "right", "bottom", "top"."""
+    ``triangles``): region "domain", curves "left", "right", "bottom", "top",
+    and ``joints`` {name: k}: grid row k (0 < k < ny) as an inner curve
+    drawn from left to right (an interface's curve; the cells above are
+    its second side)."""
     xs, ys = np.linspace(x[0], x[1], nx + 1), np.linspace(y[0], y[1], ny + 1)
     X, Y = np.meshgrid(xs, ys)                     # node (i, j) = j * (nx + 1) + i
     coordinates = np.column_stack([X.ravel(), Y.ravel()])
@@ -120,5 +123,6 @@ def rectangle(x, y, nx, ny, triangles=False):
     edges = lambda nodes: np.column_stack([nodes[:-1], nodes[1:]])
     curves = {"bottom": edges(node[0]), "top": edges(node[-1]),
               "left": edges(node[:, 0]), "right": edges(node[:, -1])}
+    curves.update({name: edges(node[k]) for name, k in (joints or {}).items()})
     return PlaneMesh(coordinates, cells, np.zeros(cells.shape[0], dtype=int), ("domain",),
                      curves)

@@ -21,7 +21,8 @@ def read_mesh(spec):
 
     if spec.kind == "rectangle":
         p = spec.params
-        return mesh.rectangle(p["x"], p["y"], p["nx"], p["ny"], p["triangles"])
+        return mesh.rectangle(p["x"], p["y"], p["nx"], p["ny"], p["triangles"],
+                              p.get("joints"))
     if spec.kind == "dam":
         try:
             return dam_mesh.dam_mesh(**spec.params)
@@ -56,14 +57,31 @@ def check_names(case, mesh):
                              "of the mesh")
 
 
-def summary(case, output, mesh=None):
+def split_interfaces(case, mesh):
+    """(the mesh split along every [[interface]], (infos, (nodes, normal,
+    tangent, length)) of its pairs): rank 0's (vstpetsc.plane.pairs);
+    InputError naming the interface."""
+    from vstpetsc.plane import pairs
+
+    specs = case.plane.interfaces
+    materials = cell_materials([{r.name: r for r in case.plane.regions}[n]
+                                for n in mesh.region_names], mesh.region)
+    try:
+        mesh, infos, arrays = pairs.split_all(specs, mesh, materials, case.dt)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    return mesh, (infos, arrays)
+
+
+def summary(case, output, mesh=None, infos=None):
     """What a run of ``case`` solves (the run's header, and `vstpetsc run
     --dry-run`, which reads and checks the mesh here: InputError as a run
     would raise it): its size, each region's speeds and Courant number,
-    its boundaries."""
+    its boundaries and interfaces."""
     if mesh is None:
         mesh = read_mesh(case.plane.mesh)
         check_names(case, mesh)
+        mesh, (infos, _) = split_interfaces(case, mesh)
     lines = [f"vstpetsc: {case.source}",
              f"  dt = {case.dt:g}, {case.nslabs} slabs to t = {case.nslabs * case.dt:g}; keep "
              f"every {case.every}; result: {output}",
@@ -76,7 +94,17 @@ def summary(case, output, mesh=None):
                      f"Vp dt / h up to {r.vp * case.dt / h.min():.3g}")
     lines += [f"  boundary {b.name}: {b.type}" + (", incident wave" if b.incident else "")
               for b in case.plane.boundaries]
+    lines += [interface_line(i) for i in infos or ()]
     return "\n".join(lines)
+
+
+def interface_line(info):
+    """One line per interface of the summary."""
+    friction = f", Coulomb friction {info.friction:g}, tangential stiffness " \
+        f"{info.shear_stiffness:.6g}" if info.friction is not None else ", no friction"
+    return (f"  interface {info.name}: {info.pairs.stop - info.pairs.start} node pairs, "
+            f"{info.formulation} penalty {info.penalty:.6g} per unit length "
+            f"({'given' if info.given else 'default'}){friction}")
 
 
 def cell_sizes(mesh):
@@ -101,17 +129,19 @@ class PlaneModel:
         self.case, self.comm = case, comm
         self.laws, self.recorded, self.bodies, self.soil = [], [], [], None
         rank0 = comm.getRank() == 0
-        error, mesh = None, None
+        error, mesh, split = None, None, None
         if rank0:
             try:
                 mesh = read_mesh(case.plane.mesh)
                 check_names(case, mesh)
+                mesh, split = split_interfaces(case, mesh)
             except InputError as exc:
                 error = str(exc)
         error = comm.tompi4py().bcast(error, root=0)
         if error:
             raise InputError(error)
         self.mesh = mesh                            # the whole mesh on rank 0, None elsewhere
+        self.infos, arrays = comm.tompi4py().bcast(split, root=0)
         self.local = distributed.distribute(mesh, comm)
         self.nnodes = self.local.size
         self.ncells = comm.tompi4py().bcast(mesh.ncells if rank0 else None, root=0)
@@ -121,6 +151,10 @@ class PlaneModel:
         if rank0:
             self.cell_materials = cell_materials(self._regions(mesh.region_names), mesh.region)
         self.boundaries = curves.Boundaries(self, case.plane.boundaries)
+        self.pairs = self._pairs(arrays)
+        if self.pairs is not None:
+            from vstpetsc.plane.pairs import InterfaceRecord
+            self.recorded = [InterfaceRecord(self.pairs, i) for i in self.infos]
         self._matrices = None
         from vstpetsc.plane.gauges import PlaneGauges
         self.gauges = PlaneGauges(self)
@@ -138,6 +172,24 @@ class PlaneModel:
         self.owned_local = owned
         self.owned_original = local.original[owned]
         self.first = local.start
+
+    def _pairs(self, arrays):
+        """The PairSet of the interfaces (None without), with each pair's
+        nodes also in the global numbering (``pairs.global_nodes``)."""
+        if not self.infos:
+            return None
+        from vstpetsc.plane.pairs import PairSet
+
+        pairs = PairSet(self.infos, *arrays, self.case.dt)
+        comm = self.comm.tompi4py()
+        numbering = comm.gather((self.owned_original, self.first), root=0)
+        if comm.Get_rank() == 0:
+            global_of = np.empty(self.nnodes, dtype=np.int64)
+            for original, first in numbering:
+                global_of[original] = first + np.arange(original.size)
+            numbering = global_of[pairs.nodes]
+        pairs.global_nodes = comm.bcast(numbering, root=0)
+        return pairs
 
     def matrices(self):
         """(M, C or None, K): this rank's rows (CSR, global columns),
@@ -157,6 +209,25 @@ class PlaneModel:
         if dashpots is not None:
             C = dashpots if C is None else C + dashpots
         return M, C, K
+
+    def closed_springs(self, whole=False):
+        """The interfaces' closed, sticking springs (vstpetsc.plane.pairs;
+        None without): this rank's rows (CSR, global columns), or with
+        ``whole`` every row in the mesh's numbering as read (rank 0's
+        static solve)."""
+        if self.pairs is None:
+            return None
+        from types import SimpleNamespace
+
+        from vstpetsc.plane.interfaces import spring_matrix
+
+        p = self.pairs
+        nodes = p.nodes if whole else p.global_nodes
+        springs = spring_matrix(SimpleNamespace(nodes=nodes, normal=p.normal, tangent=p.tangent,
+                                                length=np.ones(p.m)),
+                                p.spring_n, p.spring_t, self.nnodes)
+        return springs if whole else \
+            springs[2 * self.first:2 * (self.first + self.owned_original.size)]
 
     def courant(self, dt):
         """The largest Vp dt / h over every rank's cells (h: cell_sizes)."""

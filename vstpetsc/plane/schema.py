@@ -1,5 +1,5 @@
 """The tables of a plane-strain case (interface.md, "Plane strain (2-D)"):
-[mesh], [[region]], [[boundary]], [[gauge]] with x = [x, y], and
+[mesh], [[region]], [[boundary]], [[interface]], [[gauge]] with x = [x, y], and
 [gravity] along y.  A case with a [mesh] table is 2-D; the 1-D tables
 are refused in it.  Names of regions and curves are checked against the
 mesh when the model reads it (vstpetsc.plane.model); nothing here reads
@@ -12,8 +12,8 @@ from vstpetsc.checker import is_number, name_problem, show
 from vstpetsc.history import History
 
 ONE_D = ("body", "contact", "bc", "soil")
-TOP = ("time", "output", "units", "gravity", "gauge", "mesh", "region", "boundary")
-GENERATED = {"rectangle": ("x", "y", "nx", "ny", "triangles"),
+TOP = ("time", "output", "units", "gravity", "gauge", "mesh", "region", "boundary", "interface")
+GENERATED = {"rectangle": ("x", "y", "nx", "ny", "triangles", "joints"),
              "dam": ("height", "crest", "upstream", "downstream", "foundation_depth",
                      "foundation_width", "h")}
 REGION_KEYS = ("name", "E", "nu", "Vs", "Vp", "rho", "damping", "mass", "v0", "u0")
@@ -22,6 +22,8 @@ TYPES = ("fixed", "velocity", "traction", "absorbing")
 MASSES = ("averaged", "consistent", "lumped")
 MOTIONS = ("incident", "outcrop")
 COMPONENTS = ("x", "y")
+INTERFACE_KEYS = ("name", "friction", "formulation", "penalty")
+FORMULATIONS = ("power", "seed")
 
 
 @dataclass
@@ -72,10 +74,23 @@ class CurveSpec:
 
 
 @dataclass
+class InterfaceSpec:
+    """An [[interface]] along the curve ``name``: the Coulomb coefficient
+    ``friction`` (None: no shear), the penalty's ``formulation`` and its
+    ``penalty`` per unit length of the curve (None: the default rule)."""
+
+    name: str
+    friction: float | None = None
+    formulation: str = "power"
+    penalty: float | None = None
+
+
+@dataclass
 class PlaneSpec:
     mesh: MeshSpec
     regions: list
     boundaries: list
+    interfaces: list = field(default_factory=list)
 
 
 @dataclass
@@ -97,13 +112,12 @@ def read(chk, doc):
         if key in doc:
             chk.add(key, f"[[{key}]] is a 1-D table; a case with [mesh] is plane strain "
                     "(use [[region]] and [[boundary]])")
-    if "interface" in doc:
-        chk.add("interface", "[[interface]] is not built yet (issue 38)")
-    chk.unknown({k: v for k, v in doc.items() if k not in ONE_D + ("interface",)}, TOP, "")
+    chk.unknown({k: v for k, v in doc.items() if k not in ONE_D}, TOP, "")
     mesh = read_mesh(chk, chk.table(doc, "mesh", "mesh", required=True))
     regions = read_regions(chk, chk.tables(doc, "region"))
     boundaries = read_boundaries(chk, chk.tables(doc, "boundary"))
-    return {"plane": PlaneSpec(mesh, regions, boundaries),
+    interfaces = read_interfaces(chk, chk.tables(doc, "interface"), boundaries)
+    return {"plane": PlaneSpec(mesh, regions, boundaries, interfaces),
             "gauges": read_gauges(chk, chk.tables(doc, "gauge"))}
 
 
@@ -146,7 +160,31 @@ def _rectangle(chk, p, where):
         out[key] = pair
     out["nx"], out["ny"] = (chk.integer(p, k, where) for k in ("nx", "ny"))
     out["triangles"] = chk.boolean(p, "triangles", where)
-    return None if None in out.values() else MeshSpec("rectangle", params=out)
+    if None in out.values():
+        return None
+    out["joints"] = _joints(chk, p.get("joints", {}), f"{where}.joints", out)
+    return None if out["joints"] is None else MeshSpec("rectangle", params=out)
+
+
+def _joints(chk, joints, where, p):
+    """{name: y} of horizontal inner curves (interfaces' curves) along the
+    rectangle's grid rows strictly inside it."""
+    if not isinstance(joints, dict):
+        chk.add(where, f"must be a table {{name = y}}, got {show(joints)}")
+        return None
+    (y0, y1), ny = p["y"], p["ny"]
+    out = {}
+    for name, y in joints.items():
+        row = (y - y0) / (y1 - y0) * ny if is_number(y) else None
+        if row is None or not 0 < round(row) < ny or abs(row - round(row)) > 1e-9 * ny:
+            chk.add(f"{where}.{name}", f"must be the y of a grid row inside the rectangle "
+                    f"(y0 + k (y1 - y0) / ny, 0 < k < ny), got {show(y)}")
+            return None
+        if name in ("left", "right", "bottom", "top"):
+            chk.add(f"{where}.{name}", "is a name of the rectangle's own curves")
+            return None
+        out[name] = int(round(row))
+    return out
 
 
 def _dam(chk, p, where):
@@ -254,6 +292,25 @@ def read_boundaries(chk, tables):
         spec = None if kind is None else _boundary(chk, tbl, where, name, kind)
         if name is not None and spec is not None:
             out.append(spec)
+    return out
+
+
+def read_interfaces(chk, tables, boundaries):
+    out, seen = [], set()
+    bounded = {b.name for b in boundaries}
+    for i, tbl in enumerate(tables):
+        name, where = _named(chk, tbl, "interface", i, INTERFACE_KEYS, seen,
+                             "a second [[interface]] on curve")
+        if name in bounded:
+            chk.add(f"{where}.name", f"curve {name!r} has a [[boundary]]: an interface lies "
+                    "inside the mesh, between two cells")
+        mu = chk.number(tbl, "friction", where, required=False, minimum=0.0)
+        form = chk.string(tbl, "formulation", where, required=False, default="power",
+                          choices=FORMULATIONS)
+        penalty = chk.number(tbl, "penalty", where, required=False, positive=True)
+        bad = (("friction" in tbl and mu is None) or ("penalty" in tbl and penalty is None))
+        if name is not None and form is not None and not bad:
+            out.append(InterfaceSpec(name, mu, form, penalty))
     return out
 
 

@@ -5,7 +5,8 @@ SlabSolver that the shared time loop and recorder use (``rhs``,
 
 Each slab in the plain algebra of formulation.md: r from (u^n, v^{n-})
 by two parallel products (M v, K u), A x = r + int T_a f dt solved with A
-factored once (vstpetsc.plane.stepper's linear solver, options prefix
+factored once (with interfaces: A_c, the interfaces closed and sticking,
+and Newton, vstpetsc.plane.contact_newton) (vstpetsc.plane.stepper's linear solver, options prefix
 ``vst_plane_``), u^{n+1} = u^n + dt/2 (v^1 + v^2).  Held dofs have
 identity rows carrying their prescribed (v^1, v^2).  The energy terms of
 each slab are summed per rank (docs/loads.md section 4): the dashpots'
@@ -22,7 +23,7 @@ from vstpetsc.plane.assembly import identity_rows, petsc_matrix
 from vstpetsc.plane.stepper import linear_solver
 from vstpetsc.results import layout
 
-SUMS = ("damping", "external")
+SUMS = ("damping", "external", "contact", "friction")
 
 
 class PlaneSpace(Space):
@@ -49,7 +50,8 @@ class PlaneSolver:
         self.laws = NoLaws()
         M, C, K = model.matrices()
         first = model.first
-        A = slab.sparse_slab_matrix(M, C, K, dt)
+        springs = model.closed_springs()        # interfaces: A_c = A + dt^2 HK (x) springs
+        A = slab.sparse_slab_matrix(M, C, K if springs is None else K + springs, dt)
         held = loads.held
         self.rows = (2 * held[:, None] + np.arange(2)).ravel()
         self.M, self.K = petsc_matrix(M, comm), petsc_matrix(K, comm)
@@ -73,6 +75,21 @@ class PlaneSolver:
         self._products_fresh = False
         self.restart = PlaneRestart(self)
         self.to_rank0 = gather_to_rank0(model, comm)
+        self.pairs = model.pairs
+        self.newton = None if self.pairs is None else self._newton(comm)
+
+    def _newton(self, comm):
+        """The interfaces' Newton (vstpetsc.plane.contact_newton) on A_c."""
+        from vstpetsc.plane.contact_newton import ContactNewton, PairDofs
+
+        nodes = self.pairs.global_nodes
+        index = (2 * (2 * nodes[:, :, None, None] + np.arange(2)[:, None])
+                 + np.arange(2)).reshape(-1, 8)
+        held = comm.tompi4py().gather(4 * self.model.first + self.rows, root=0)
+        held = np.isin(index, np.concatenate(held)) if comm.getRank() == 0 \
+            else np.zeros(index.shape, dtype=bool)
+        dofs = PairDofs(comm, index, held)
+        return ContactNewton(self.A, self.ksp, self.pairs, dofs, comm)
 
     def describe(self):
         pc = self.ksp.getPC()
@@ -114,6 +131,11 @@ class PlaneSolver:
         r[self.rows] = np.asarray(velocities).ravel()
 
     def solve(self, k):
+        if self.newton is not None:
+            its = self.newton.solve(self.b, self.x, k)
+            if not np.isfinite(self.x.getArray(readonly=True)).all():
+                raise SolveFailed(f"slab {k}: the solution is not finite")
+            return its
         self.ksp.solve(self.b, self.x)
         if self.ksp.getConvergedReason() < 0:
             raise SolveFailed(f"slab {k}: the linear solver did not converge "
@@ -133,6 +155,9 @@ class PlaneSolver:
             self.sums[1] += float(self.forces[:, 0] @ v1 + self.forces[:, 1] @ v2)
         if self.A_free is not None:
             self.sums[1] += self._reaction_work(x)
+        if self.pairs is not None and self.comm.getRank() == 0:
+            self.sums[2:4] += self.pairs.finish_slab()
+            self.sums[1] += self.newton.held_work()
         self.u += 0.5 * self.dt * (v1 + v2)
         self.v[:] = v2
         self._products_fresh = False
@@ -246,6 +271,8 @@ class PlaneRestart:
 
     def restore(self, state):
         parts = state.get(layout.ENERGY_STATE) if state else None
+        if parts is not None and parts.shape[1] < len(SUMS):    # written before interfaces
+            parts = np.pad(parts, ((0, 0), (0, len(SUMS) - parts.shape[1])))
         space = self.solver.space
         if parts is not None and len(parts) == self.solver.comm.getSize():
             self.solver.sums[:] = parts[self.solver.comm.getRank()]

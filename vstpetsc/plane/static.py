@@ -2,7 +2,8 @@
 initial = "static", as in 1-D: docs/loads.md): K u = f_g with every held
 dof and every node of an absorbing curve held, solved once; the run then
 starts from rest in u with the absorbing nodes' reactions K u - f_g kept
-as constant forces, so that (u, 0) is an exact equilibrium of the slab
+as constant forces (interfaces closed and sticking: K with their springs,
+vstpetsc.plane.pairs), so that (u, 0) is an exact equilibrium of the slab
 equations (with v = 0 their right-hand side is dt/2 (f - K u) on both
 time rows, zero everywhere).
 
@@ -45,6 +46,9 @@ def _solve_on_rank0(model, held, g0):
     from vstpetsc.plane.model import spatial_matrices
 
     M, _, K = spatial_matrices(model.mesh, model.cell_materials)
+    springs = model.closed_springs(whole=True)     # interfaces closed and sticking
+    if springs is not None:
+        K = K + springs
     f = unit_gravity(M) * g0
     A = petsc_matrix(identity_rows(K, held, 0), PETSc.COMM_SELF)
     ksp = PETSc.KSP().create(comm=PETSc.COMM_SELF)
@@ -78,6 +82,9 @@ def static_state(model, gravity_pattern):
     dof = (2 * local.global_vertex[:, None] + np.arange(2)).ravel()
     u_global[dof] = u.reshape(-1, 2)[local.original].ravel()
     _, _, K = model.matrices()
+    springs = model.closed_springs()
+    if springs is not None:
+        K = K + springs
     reaction = np.zeros(K.shape[0])
     free_absorbing = np.setdiff1d(bounds.absorbing_dofs(), bounds.held_dofs()[0])
     reaction[free_absorbing] = (K @ u_global - gravity_pattern * g0)[free_absorbing]

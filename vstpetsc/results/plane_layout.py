@@ -5,6 +5,8 @@ functions for the recorder, the writer and the restart:
     /mesh/coordinates (nn, 2), /mesh/cells (ne, 4), /mesh/region (ne,) + attribute names
     /field/u, /field/v (nt, nn, 2), /field/stress (nt, ne, 3)
     /gauge/<name>/u, v (ns + 1, 2)
+    /interface/<name>/nodes, normal, tangent (m, 2), length (m,)
+    /interface/<name>/gap, normal_force, shear_force, slip, stretch (nt, m)
     /energy/*, /solver/*, /time as in 1-D
 """
 
@@ -12,6 +14,8 @@ import numpy as np
 
 from vstpetsc import energy as energy_mod
 from vstpetsc.results.layout import ENERGY, SOLVER, TIME
+
+PAIR_SERIES = ("gap", "normal_force", "shear_force", "slip", "stretch")
 
 MESH = "mesh"
 FIELD = "field"
@@ -28,18 +32,28 @@ def series(model):
     out = [(TIME, ()), (field_path("u"), (nn, 2)), (field_path("v"), (nn, 2)),
            (field_path("stress"), (ne, 3))]
     out += model.gauges.shapes()
+    for record in model.recorded:
+        m = record.info.pairs.stop - record.info.pairs.start
+        out += [(f"{record.group}/{key}", (m,)) for key in PAIR_SERIES]
     return out + [(name, ()) for name in ENERGY + SOLVER]
 
 
 def statics(model):
     mesh = model.mesh
-    return {f"{MESH}/coordinates": mesh.coordinates, f"{MESH}/cells": mesh.cells,
-            f"{MESH}/region": mesh.region}
+    out = {f"{MESH}/coordinates": mesh.coordinates, f"{MESH}/cells": mesh.cells,
+           f"{MESH}/region": mesh.region}
+    for record in model.recorded:
+        s, p = record.info.pairs, model.pairs
+        out.update({f"{record.group}/nodes": p.nodes[s], f"{record.group}/normal": p.normal[s],
+                    f"{record.group}/tangent": p.tangent[s],
+                    f"{record.group}/length": p.length[s]})
+    return out
 
 
 def group_attrs(model):
     names = model.mesh.region_names if model.mesh is not None else ()
-    return {f"{MESH}/region": {"names": list(names)}, **model.gauges.attrs()}
+    return {f"{MESH}/region": {"names": list(names)}, **model.gauges.attrs(),
+            **{record.group: record.attrs() for record in model.recorded}}
 
 
 def gauges(model):
@@ -94,6 +108,9 @@ class RowFiller:
             buffers[name][i] = energy[key]
         buffers[field_path("u")][i] = u
         buffers[field_path("v")][i] = v
+        for record in self.model.recorded:
+            for key, value in record.values().items():
+                buffers[f"{record.group}/{key}"][i] = value
         mat = self.model.cell_materials
         buffers[field_path("stress")][i] = centre_stress(self.model.mesh, np.ravel(u),
                                                          mat["lam"], mat["mu"])
@@ -105,8 +122,11 @@ class RowFiller:
 
 
 def last_state(f, model):
-    """(slab, u, v, {}, energies of the first row, of the last row)."""
+    """(slab, u, v, {interface group: its pairs' state}, energies of the
+    first row, of the last row)."""
     k = int(f["solver/slab"][-1])
     u, v = f[field_path("u")][-1], f[field_path("v")][-1]
     energies = [{key.split("/")[1]: f[key][i] for key in ENERGY} for i in (0, -1)]
-    return k, u, v, {}, energies[0], energies[1]
+    pairs = {r.group: {key: f[f"{r.group}/{key}"][-1] for key in PAIR_SERIES}
+             for r in model.recorded}
+    return k, u, v, pairs, energies[0], energies[1]

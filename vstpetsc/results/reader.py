@@ -257,6 +257,22 @@ class Result(FileReads):
         return Group(self, f"{layout.CONTACT}/{int(k)}")
 
     @property
+    def interfaces(self):
+        """The names of a plane-strain result's interfaces (empty without)."""
+        return self.keys("interface") if "interface" in self else []
+
+    def interface(self, name):
+        """Datasets of a plane-strain interface: ``.nodes`` (m, 2), ``.normal``,
+        ``.tangent`` (m, 2), ``.length`` (m,), and at the kept times ``.gap``,
+        ``.normal_force``, ``.shear_force``, ``.slip``, ``.stretch`` (nt, m);
+        ``.attrs`` (formulation, penalty, friction, permanent_slip)."""
+        self._plane_only("interface")
+        if name not in self.interfaces:
+            raise KeyError(f"no interface {name!r} (interfaces: "
+                           f"{', '.join(self.interfaces) or 'none'})")
+        return Group(self, f"interface/{name}")
+
+    @property
     def gauges(self):
         """The gauge names (empty if the case has none)."""
         return self.keys("gauge") if "gauge" in self else []

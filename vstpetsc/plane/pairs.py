@@ -1,0 +1,245 @@
+"""The node pairs of a plane-strain run's interfaces ([[interface]],
+interface.md "Plane strain (2-D)") and their state: every interface's
+pairs one after the other, each pair the 1-D contact pair along its
+normal and, with friction, the 1-D Coulomb law along its tangent
+(vstpetsc.plane.pair_kernels), per unit thickness with its tributary
+length as its area.
+
+Pair coordinates: the slab's unknowns of a pair's two nodes z (8: first
+node (x, y), second node (x, y), each at the slab's two time nodes) give
+y = (d1, d2, q1, q2), d = n . (v_first - v_second) the closing rate and
+q = t . (v_first - v_second) = -s, s the second side's tangential
+velocity relative to the first (the 1-D pair's signs: +1 first, -1
+second).  The pair's terms f(y) enter the slab residual as E f (E: +n, +t
+on the first node, -n, -t on the second).
+
+A closed, sticking pair's terms are linear in y: W y + constant with
+W = k dt^2 HK, the slab algebra of a spring k (the power penalty's and
+the stick spring's, formulation.md), so the run factors A_c = A + dt^2
+HK (x) S once (S: spring_matrix of the springs ``closed_springs``) and
+Newton sees only the difference f - W_c y (``difference``).
+
+Default stiffnesses per unit length (docs/plane-strain.md): the 1-D
+rules (laws.penalty.default_penalty, laws.friction.BETA) with the
+adjacent cells' lambda + 2 mu (normal) or mu (tangential) for E and
+their size across the curve for h, the stiffest edge's."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vstpetsc.laws import friction as friction_law
+from vstpetsc.laws.penalty import DEFAULT_BETA
+from vstpetsc.plane import pair_kernels as pk
+from vstpetsc.results.plane_layout import PAIR_SERIES as SERIES
+from vstpetsc.slab import HK
+
+
+@dataclass
+class InterfaceInfo:
+    """One interface of the run (every rank): its pairs' slice of the
+    run's pairs, formulation, penalty and tangential stiffness per unit
+    length (the latter 0 without friction) and friction coefficient."""
+
+    name: str
+    pairs: slice
+    formulation: str
+    penalty: float
+    shear_stiffness: float
+    friction: float | None
+    given: bool
+
+    @property
+    def power(self):
+        return self.formulation == "power"
+
+
+def edge_stiffness(mesh, materials, edges):
+    """Per edge of an inner curve, from the two cells that share it: the
+    cells' (lambda + 2 mu) / h and mu / h, h their size across the edge
+    (a quadrilateral's area / length, a triangle's 2 area / length),
+    as (2, m) arrays for the normal and the tangential."""
+    cells, a, b = mesh.edges()
+    keys = mesh.edge_keys(a, b)
+    order = np.argsort(keys, kind="stable")
+    at = np.searchsorted(keys[order], mesh.edge_keys(edges[:, 0], edges[:, 1]))
+    both = cells[order[np.stack([at, at + 1])]]             # (2, m) the two cells
+    length = np.linalg.norm(np.diff(mesh.coordinates[edges], axis=1)[:, 0], axis=1)
+    area = np.abs(mesh.areas())[both]
+    h = area / length * np.where(mesh.cells[both, 3] < 0, 2.0, 1.0)
+    lam, mu = materials["lam"][both], materials["mu"][both]
+    return (lam + 2.0 * mu) / h, mu / h
+
+
+def default_stiffnesses(mesh, materials, edges, formulation, dt):
+    """(penalty, tangential stiffness) per unit length of an interface
+    along ``edges`` by default (the module's docstring)."""
+    normal, shear = edge_stiffness(mesh, materials, edges)
+    if formulation == "power":
+        penalty = DEFAULT_BETA["power"] / (1.0 / normal).sum(axis=0)
+    else:
+        penalty = 2.0 * DEFAULT_BETA["seed"] * normal.max(axis=0) / dt
+    tangential = friction_law.BETA / (1.0 / shear).sum(axis=0)
+    return float(penalty.max()), float(tangential.max())
+
+
+class PairSet:
+    """Every pair of the run's interfaces (every rank holds the layout;
+    rank 0 the state and the kernels): ``nodes`` (m, 2) in the mesh's
+    numbering (split), ``normal``, ``tangent`` (m, 2), ``length`` (m,)."""
+
+    def __init__(self, infos, nodes, normal, tangent, length, dt):
+        self.infos, self.dt = infos, dt
+        self.nodes, self.normal, self.tangent, self.length = nodes, normal, tangent, length
+        self.m = length.size
+        per = lambda f: np.concatenate([np.full(i.pairs.stop - i.pairs.start, f(i), float)
+                                        for i in infos]) if infos else np.zeros(0)
+        self.w = per(lambda i: i.penalty) * length
+        self.kt = per(lambda i: i.shear_stiffness) * length
+        self.mu = per(lambda i: i.friction or 0.0)
+        # the closed, sticking springs A_c holds (the seed's: its slab-mean stiffness)
+        self.spring_n = per(lambda i: i.penalty if i.power else 0.5 * i.penalty * dt) * length
+        self.spring_t = self.kt.copy()
+        self.kernels = [pk.PairKernels(self.w[i.pairs], self.kt[i.pairs], self.mu[i.pairs], dt,
+                                       i.power) for i in infos]
+        self.hk = dt * dt * HK
+        self.gap, self.stretch, self.slip = np.zeros(self.m), np.zeros(self.m), np.zeros(self.m)
+        self.normal_force, self.shear_force = np.zeros(self.m), np.zeros(self.m)
+        self.out = np.zeros((self.m, pk.OUT))
+        self.y = np.zeros((self.m, 4))
+
+    def coordinates(self, z):
+        """y (m, 4) from the pairs' slab unknowns z (m, 8)."""
+        rel = z.reshape(-1, 2, 2, 2)
+        rel = rel[:, 0] - rel[:, 1]                            # (m, component, time)
+        return np.concatenate([np.einsum("mc,mca->ma", self.normal, rel),
+                               np.einsum("mc,mca->ma", self.tangent, rel)], axis=1)
+
+    def to_dofs(self, f):
+        """The pairs' terms f (m, 4) as the entries of E f on their z (m, 8)."""
+        node = (self.normal[:, :, None] * f[:, None, 0:2]
+                + self.tangent[:, :, None] * f[:, None, 2:4])  # (m, component, time)
+        return np.stack([node, -node], axis=1).reshape(-1, 8)
+
+    def evaluate(self, z):
+        """The kernels at z: fills ``out`` and ``y``."""
+        self.y = self.coordinates(z)
+        for info, kernel in zip(self.infos, self.kernels):
+            s = info.pairs
+            self.out[s] = kernel.evaluate(self.gap[s], self.y[s], self.stretch[s])
+
+    def difference(self):
+        """(f - W_c y as E's dof entries (m, 8), the Jacobian's difference
+        blocks (m, 2, 2) normal and tangential) at the last evaluation."""
+        out, y = self.out, self.y
+        f = np.concatenate([out[:, pk.F_N], out[:, pk.F_T]], axis=1)
+        f[:, 0:2] -= self.spring_n[:, None] * (y[:, 0:2] @ self.hk.T)
+        f[:, 2:4] -= self.spring_t[:, None] * (y[:, 2:4] @ self.hk.T)
+        dn = out[:, pk.W_N].reshape(-1, 2, 2) - self.spring_n[:, None, None] * self.hk
+        dt_ = out[:, pk.W_T].reshape(-1, 2, 2) - self.spring_t[:, None, None] * self.hk
+        return self.to_dofs(f), dn, dt_
+
+    def apply_difference(self, dz, dn, dtan):
+        """E (W - W_c) E^T on the pairs' entries dz (m, 8)."""
+        y = self.coordinates(dz)
+        f = np.concatenate([np.einsum("mab,mb->ma", dn, y[:, 0:2]),
+                            np.einsum("mab,mb->ma", dtan, y[:, 2:4])], axis=1)
+        return self.to_dofs(f)
+
+    def finish_slab(self):
+        """Close the slab at the last evaluation (the converged one):
+        (contact work, dissipated) of the slab, the state advanced."""
+        out, y = self.out, self.y
+        work_n = float(np.einsum("ma,ma->", out[:, pk.F_N], y[:, 0:2]))
+        work_t = float(np.einsum("ma,ma->", out[:, pk.F_T], y[:, 2:4]))
+        dissipated = float(out[:, pk.DISSIPATED].sum())
+        self.gap -= 0.5 * self.dt * (y[:, 0] + y[:, 1])
+        self.stretch = out[:, pk.STRETCH].copy()
+        self.slip += out[:, pk.SLIP]
+        self.normal_force = out[:, pk.IMPULSE] / self.dt
+        self.shear_force = out[:, pk.SHEAR] / self.dt
+        return work_n + work_t - dissipated, dissipated
+
+    def stored_energy(self):
+        """The springs' energy of the state: the power penalty's
+        w g^2 / 2 of a closed pair and k_t e^2 / 2 (the seed's
+        penalty stores none: it is not a potential)."""
+        power = np.concatenate([np.full(i.pairs.stop - i.pairs.start, i.power)
+                                for i in self.infos]) if self.infos else np.zeros(0, bool)
+        closed = np.minimum(self.gap, 0.0)
+        return float(0.5 * (self.w * power * closed ** 2).sum()
+                     + 0.5 * (self.kt * self.stretch ** 2).sum())
+
+    def start(self, u, static=False):
+        """The state of t = 0 from the displacements u (nn, 2): the gaps,
+        and for a static start the stick springs' stretch."""
+        du = u[self.nodes[:, 1]] - u[self.nodes[:, 0]]
+        self.gap = np.einsum("mc,mc->m", self.normal, du)
+        self.stretch = np.einsum("mc,mc->m", self.tangent, du) * (self.kt > 0) if static \
+            else np.zeros(self.m)
+        self.slip = np.zeros(self.m)
+
+
+def split_all(specs, mesh, materials, dt):
+    """(the mesh split along every interface, [InterfaceInfo], the pairs'
+    (nodes, normal, tangent, length)) on rank 0; ValueError naming the
+    interface for a curve the mesh has not or one on its boundary."""
+    from vstpetsc.plane.interfaces import split
+
+    infos, parts, start = [], [], 0
+    for i, spec in enumerate(specs):
+        where = f"interface[{i}] ({spec.name}).name"
+        if spec.name not in mesh.curves:
+            raise ValueError(f"{where}: the mesh has no curve {spec.name!r} "
+                             f"(curves: {', '.join(mesh.curves) or 'none'})")
+        edges = mesh.curves[spec.name]
+        try:
+            split_mesh, pairs = split(mesh, spec.name)
+        except ValueError as exc:
+            raise ValueError(f"{where}: {exc}") from None
+        penalty, shear = default_stiffnesses(mesh, materials, edges, spec.formulation, dt) \
+            if len(edges) else (1.0, 1.0)
+        mesh = split_mesh
+        if spec.penalty is not None:
+            penalty = spec.penalty
+        m = pairs.length.size
+        infos.append(InterfaceInfo(spec.name, slice(start, start + m), spec.formulation,
+                                   penalty, shear if spec.friction is not None else 0.0,
+                                   spec.friction, spec.penalty is not None))
+        parts.append(pairs)
+        start += m
+    join = lambda key, shape: np.concatenate([getattr(p, key) for p in parts]) if parts \
+        else np.zeros(shape)
+    return mesh, infos, (join("nodes", (0, 2)).astype(int), join("normal", (0, 2)),
+                         join("tangent", (0, 2)), join("length", (0,)))
+
+
+
+
+class InterfaceRecord:
+    """One interface's part of the pairs' state, as the result file keeps
+    it (group ``interface/<name>``): its rows' values, its attributes,
+    its restart."""
+
+    def __init__(self, pairs, info):
+        self.pairs, self.info = pairs, info
+        self.group = f"interface/{info.name}"
+
+    def values(self):
+        s, p = self.info.pairs, self.pairs
+        return {key: getattr(p, key)[s] for key in SERIES}
+
+    def restore(self, values):
+        s, p = self.info.pairs, self.pairs
+        for key in SERIES:
+            getattr(p, key)[s] = np.asarray(values[key], dtype=float)
+
+    def attrs(self):
+        i = self.info
+        return {"formulation": i.formulation, "penalty": i.penalty,
+                "penalty_given": int(i.given), "friction": -1.0 if i.friction is None
+                else i.friction, "shear_stiffness": i.shear_stiffness}
+
+    def final_attrs(self):
+        slip = self.pairs.slip[self.info.pairs]
+        return {"permanent_slip": float(slip[np.argmax(np.abs(slip))]) if slip.size else 0.0}
