@@ -142,4 +142,8 @@ def test_split_column_is_the_1d_frictional_pair(tmp_path, friction):
     errors.update(_energies(two, one, ("strain",), since=("strain",)))
     print(friction, {k: f"{v:.2g}" for k, v in errors.items()})
     assert np.abs(pair.slip[:]).max() > 1e-3 and one.energy["friction"][-1] > 0   # it slides
+    # sliding one way under a constant N dissipates mu N |slip|
+    slip = np.abs(joint.slip[-1]).mean()
+    dissipated = friction * normal[1] * slip
+    assert abs(two.energy["friction"][-1] - dissipated) <= 1e-9 * dissipated
     assert max(errors.values()) <= 1e-9, errors

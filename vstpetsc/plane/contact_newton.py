@@ -28,8 +28,9 @@ from petsc4py import PETSc
 from vstpetsc.errors import SolveFailed
 
 RTOL = 1e-12
-MAX_IT = 40
-HALVINGS = 8
+MAX_IT = 60
+FULL_STEPS = 12
+HALVINGS = 20
 LINEAR = 1e-12          # |W - W_c| below this times |W_c|: the pair is linear (rounding)
 
 
@@ -72,8 +73,10 @@ class PairDofs:
 
     def add(self, values, vec):
         """vec += E-entries ``values`` (m, 8) (rank 0's) at the free dofs."""
-        if self.scatter is None:
-            np.add.at(vec.getArray(), self.index, values * self.free)
+        if self.scatter is None:          # setValues: PETSc sees the change (cached norms)
+            vec.setValues(self.index.ravel().astype(PETSc.IntType),
+                          (values * self.free).ravel(), addv=PETSc.InsertMode.ADD)
+            vec.assemble()
             return
         if self.rank0:
             self.pairs_vec.setArray((values * self.free).ravel())
@@ -81,30 +84,6 @@ class PairDofs:
             self.pairs_vec.setArray(np.zeros(0))
         self.scatter.scatter(self.pairs_vec, vec, addv=PETSc.InsertMode.ADD,
                              mode=PETSc.ScatterMode.REVERSE)
-
-
-class _Jacobian:
-    """J = A_c + E (W - W_c) E^T, matrix-free (petsc4py's python Mat)."""
-
-    def __init__(self, newton):
-        self.newton = newton
-
-    def mult(self, mat, x, y):
-        nw = self.newton
-        nw.A_c.mult(x, y)
-        z = nw.dofs.gather(x)
-        values = nw.pairs.apply_difference(z, *nw.blocks) if z is not None else None
-        nw.dofs.add(values, y)
-
-
-class _Preconditioner:
-    """A_c's own solver as GMRES's preconditioner (petsc4py's python PC)."""
-
-    def __init__(self, inner):
-        self.inner = inner
-
-    def apply(self, pc, x, y):
-        self.inner.solve(x, y)
 
 
 class ContactNewton:
@@ -117,19 +96,8 @@ class ContactNewton:
         self.R, self.dx = A_c.createVecLeft(), A_c.createVecLeft()
         self.trial = A_c.createVecLeft()
         dofs.bind(self.R)
-        J = PETSc.Mat().createPython(A_c.getSizes(), context=_Jacobian(self), comm=comm)
-        J.setUp()
-        self.outer = PETSc.KSP().create(comm=comm)
-        self.outer.setOptionsPrefix("vst_contact_")
-        self.outer.setOperators(J)
-        exact = inner.getType() == "preonly"
-        self.outer.setType("gmres" if exact else "fgmres")
-        self.outer.setTolerances(rtol=1e-12, atol=0.0, max_it=500)
-        self.outer.setGMRESRestart(100)
-        pc = self.outer.getPC()
-        pc.setType("python")
-        pc.setPythonContext(_Preconditioner(inner))
-        self.outer.setFromOptions()
+        from vstpetsc.plane.newton_steps import steps_for
+        self.steps = steps_for(self)
         self.blocks = self.values = self.z = None
         self.linear = True
         self.iterations = self.krylov = 0
@@ -144,13 +112,12 @@ class ContactNewton:
         linear = True
         if z is not None:
             self.pairs.evaluate(z)
-            values, dn, dtan = self.pairs.difference()
+            values, *blocks = self.pairs.difference()
             scale = max(float(np.abs(self.pairs.spring_n).max(initial=0.0)),
                         float(np.abs(self.pairs.spring_t).max(initial=0.0))) \
                 * float(np.abs(self.pairs.hk).max())
-            linear = max(float(np.abs(dn).max(initial=0.0)),
-                         float(np.abs(dtan).max(initial=0.0))) <= LINEAR * scale
-            self.blocks = (dn, dtan)
+            linear = max(float(np.abs(b).max(initial=0.0)) for b in blocks) <= LINEAR * scale
+            self.blocks = blocks
         self.dofs.add(values, R)
         self.values, self.z = values, z
         self.linear = self.comm.tompi4py().bcast(linear, root=0)
@@ -176,7 +143,7 @@ class ContactNewton:
             if it == MAX_IT:
                 break
             self._step()
-            norm = self._line(b, x, norm)
+            norm = self._line(b, x, norm, it)
         raise SolveFailed(f"slab {k}: the interfaces' Newton did not converge in {MAX_IT} "
                           f"iterations (|R| = {norm:.3g})")
 
@@ -185,23 +152,23 @@ class ContactNewton:
         return self.trial.norm()
 
     def _step(self):
-        """dx = -J^{-1} R: one solve with A_c when every pair is linear."""
+        """dx = -J^{-1} R: one solve with A_c when every pair is linear,
+        else the step kind's (vstpetsc.plane.newton_steps)."""
         self.R.scale(-1.0)
         if self.linear:
             self.inner.solve(self.R, self.dx)
             self.krylov += max(1, self.inner.getIterationNumber())
         else:
-            self.outer.solve(self.R, self.dx)
-            if self.outer.getConvergedReason() < 0:
-                raise SolveFailed(f"the interfaces' Newton step did not converge "
-                                  f"({self.outer.getConvergedReason()})")
-            self.krylov += self.outer.getIterationNumber()
+            self.krylov += self.steps.solve(self.R, self.dx)
         self.R.scale(-1.0)
 
-    def _line(self, b, x, norm):
-        """x + dx, halved while |R| does not fall; the new |R|."""
+    def _line(self, b, x, norm, it):
+        """x + dx: full steps for the first FULL_STEPS iterations (a pair
+        that starts or stops sliding or touching moves the residual far
+        from its Newton model, and halving there crawls), then halved
+        while |R| does not fall; the new |R|."""
         step = 1.0
-        for _ in range(HALVINGS):
+        for _ in range(1 if it < FULL_STEPS else HALVINGS):
             self.trial.waxpy(step, self.dx, x)
             new = self._residual(b, self.trial, self.R)
             if new < norm:

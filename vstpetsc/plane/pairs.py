@@ -34,6 +34,8 @@ from vstpetsc.plane import pair_kernels as pk
 from vstpetsc.results.plane_layout import PAIR_SERIES as SERIES
 from vstpetsc.slab import HK
 
+CROSS_STEP = 1e-7
+
 
 @dataclass
 class InterfaceInfo:
@@ -107,6 +109,7 @@ class PairSet:
         self.normal_force, self.shear_force = np.zeros(self.m), np.zeros(self.m)
         self.out = np.zeros((self.m, pk.OUT))
         self.y = np.zeros((self.m, 4))
+        self.cross = np.zeros((self.m, 2, 2))
 
     def coordinates(self, z):
         """y (m, 4) from the pairs' slab unknowns z (m, 8)."""
@@ -122,11 +125,34 @@ class PairSet:
         return np.stack([node, -node], axis=1).reshape(-1, 8)
 
     def evaluate(self, z):
-        """The kernels at z: fills ``out`` and ``y``."""
+        """The kernels at z: fills ``out``, ``y`` and ``cross``."""
         self.y = self.coordinates(z)
         for info, kernel in zip(self.infos, self.kernels):
             s = info.pairs
             self.out[s] = kernel.evaluate(self.gap[s], self.y[s], self.stretch[s])
+            if info.friction is not None:
+                self.cross[s] = self._cross(kernel, s)
+
+    def _cross(self, kernel, s):
+        """d f_t / d d (m, 2, 2) by forward differences: friction's limit
+        mu N follows the normal closing rates, which its kernel does not
+        differentiate (zero where a pair sticks or is open).  Steps of
+        CROSS_STEP of the rates' and the gap's size: the Jacobian then
+        errs by about that, and Newton contracts by it per step."""
+        y, gap, stretch = self.y[s], self.gap[s], self.stretch[s]
+        base = self.out[s][:, pk.F_T].copy()
+        acting = (self.out[s][:, pk.ACTED] > 0) & (self.kt[s] > 0)
+        cross = np.zeros((base.shape[0], 2, 2))
+        if not acting.any():
+            return cross
+        size = np.abs(y[:, 0]) + np.abs(y[:, 1]) + np.abs(gap) / self.dt
+        for b in range(2):
+            step = CROSS_STEP * np.where(size > 0, size, 1.0)
+            moved = y.copy()
+            moved[:, b] += step
+            f = kernel.evaluate(gap, moved, stretch)[:, pk.F_T]
+            cross[:, :, b] = np.where(acting[:, None], (f - base) / step[:, None], 0.0)
+        return cross
 
     def difference(self):
         """(f - W_c y as E's dof entries (m, 8), the Jacobian's difference
@@ -137,13 +163,15 @@ class PairSet:
         f[:, 2:4] -= self.spring_t[:, None] * (y[:, 2:4] @ self.hk.T)
         dn = out[:, pk.W_N].reshape(-1, 2, 2) - self.spring_n[:, None, None] * self.hk
         dt_ = out[:, pk.W_T].reshape(-1, 2, 2) - self.spring_t[:, None, None] * self.hk
-        return self.to_dofs(f), dn, dt_
+        return self.to_dofs(f), dn, dt_, self.cross
 
-    def apply_difference(self, dz, dn, dtan):
-        """E (W - W_c) E^T on the pairs' entries dz (m, 8)."""
+    def apply_difference(self, dz, dn, dtan, cross):
+        """E (W - W_c) E^T on the pairs' entries dz (m, 8) (W with friction's
+        dependence on the normal rates, ``cross``)."""
         y = self.coordinates(dz)
         f = np.concatenate([np.einsum("mab,mb->ma", dn, y[:, 0:2]),
-                            np.einsum("mab,mb->ma", dtan, y[:, 2:4])], axis=1)
+                            np.einsum("mab,mb->ma", dtan, y[:, 2:4])
+                            + np.einsum("mab,mb->ma", cross, y[:, 0:2])], axis=1)
         return self.to_dofs(f)
 
     def finish_slab(self):

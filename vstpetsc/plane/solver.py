@@ -56,8 +56,11 @@ class PlaneSolver:
         self.rows = (2 * held[:, None] + np.arange(2)).ravel()
         self.M, self.K = petsc_matrix(M, comm), petsc_matrix(K, comm)
         self.C = None if C is None else petsc_matrix(C, comm)
-        # the unconstrained rows' product gives the reactions of moving held dofs
-        self.A_free = None if loads.all_fixed else petsc_matrix(A, comm)
+        # the unconstrained rows' product gives the reactions of moving held
+        # dofs (on every rank when any rank has some: petsc_matrix is collective)
+        from mpi4py import MPI
+        moving = comm.tompi4py().allreduce(not loads.all_fixed, op=MPI.LOR)
+        self.A_free = petsc_matrix(A, comm) if moving else None
         self.ax = None if self.A_free is None else self.A_free.createVecLeft()
         self.A = petsc_matrix(identity_rows(A, self.rows, 4 * first), comm)
         del A
