@@ -135,6 +135,9 @@ class PlaneSolver:
 
     def solve(self, k):
         if self.newton is not None:
+            # Newton starts from the state's velocity on the whole slab: a
+            # function of the state alone, so that a restart repeats it
+            self.x.setArray(np.repeat(self.v, 2))
             its = self.newton.solve(self.b, self.x, k)
             if not np.isfinite(self.x.getArray(readonly=True)).all():
                 raise SolveFailed(f"slab {k}: the solution is not finite")

@@ -1,0 +1,118 @@
+"""A dam resting on its foundation across a frictional interface (the
+generated dam's "contact"), from a static start under gravity, shaken by
+strong incident P and SV pulses through an absorbing base until it
+slides and its heel lifts: on two ranks against one (every dataset within
+1e-10 of its largest), a restart bit for bit on one rank and on two,
+`vstpetsc info`'s interface lines, and the energy balance."""
+
+import io
+
+import numpy as np
+import pytest
+
+import vstpetsc
+from test_parallel import assert_same_result, mpirun
+from test_plane_run import datasets, run_cli
+
+DAM = """
+[time]
+dt = 2.5e-3
+end = {end}
+[mesh]
+dam = {{ height = 20.0, crest = 4.0, upstream = 2.0, downstream = 1.5, foundation_depth = 12.0, foundation_width = 120.0, h = 4.0 }}
+[[region]]
+name = "dam"
+Vs = 300.0
+nu = 0.3
+rho = 2000.0
+damping = {{ beta = 1.0e-3 }}
+[[region]]
+name = "foundation"
+Vs = 800.0
+Vp = 1600.0
+rho = 2400.0
+[[boundary]]
+name = "base"
+type = "absorbing"
+incident = {{ x = [[0.0, 0.0], [0.05, 1.2], [0.1, 0.0]], y = [[0.0, 0.0], [0.04, 0.8], [0.08, 0.0]] }}
+[[boundary]]
+name = "left"
+type = "absorbing"
+[[boundary]]
+name = "right"
+type = "absorbing"
+[[interface]]
+name = "contact"
+friction = 0.6
+[gravity]
+g = -9.81
+initial = "static"
+[[gauge]]
+name = "crest"
+x = [0.0, 20.0]
+"""
+
+
+def dam_case(tmp_path, end=0.3, name="dam"):
+    path = tmp_path / f"{name}.toml"
+    path.write_text(DAM.format(end=end))
+    return path
+
+
+def test_the_dam_slides_lifts_and_keeps_its_balance(tmp_path):
+    r = vstpetsc.run(vstpetsc.Case.from_toml(dam_case(tmp_path)),
+                     output=str(tmp_path / "one.h5"), quiet=True, out=io.StringIO())
+    contact = r.interface("contact")
+    slip, gap = contact.slip[:], contact.gap[:]
+    print("slip", np.abs(slip[-1]).max(), "opening", gap.max(),
+          "numerical", r.energy["numerical"][-1], "friction", r.energy["friction"][-1],
+          "external", r.energy["external"][-1])
+    assert np.abs(slip[-1]).max() > 1e-3 and gap.max() > 1e-4     # it slides and lifts
+    assert np.all(contact.normal_force[:][1:][(gap[1:] > 0) & (gap[:-1] > 0)] == 0.0)
+    scale = max(np.abs(r.energy[k]).max() for k in ("external", "kinetic", "strain"))
+    assert r.energy["numerical"].min() >= -1e-9 * scale
+    assert r.energy["friction"][-1] > 0
+
+
+def test_the_dam_with_its_interface_on_two_ranks_equals_one(tmp_path):
+    case = dam_case(tmp_path)
+    one, two = tmp_path / "one.h5", tmp_path / "two.h5"
+    p = run_cli("run", case, "-o", one, "-q")
+    assert p.returncode == 0, p.stderr
+    p = mpirun("run", case, "-o", two, "-q")
+    assert p.returncode == 0, p.stderr
+    assert_same_result(one, two, rtol=1e-10)
+
+
+def continued_with_mpirun(tmp_path, ranks):
+    """(the whole run's datasets, those of one stopped at 0.15 s and
+    continued with --restart to 0.3 s), on ``ranks`` ranks."""
+    whole, part = tmp_path / "whole.h5", tmp_path / "part.h5"
+    run = (lambda *a: mpirun(*a)) if ranks == 2 else (lambda *a: run_cli(*a))
+    for end, name, args in ((0.3, "dam", ("-o", whole)), (0.15, "half", ("-o", part)),
+                            (0.3, "half", ("--restart", part))):
+        p = run("run", dam_case(tmp_path, end, name), *args, "-q")
+        assert p.returncode == 0, p.stderr
+    return datasets(whole), datasets(part)
+
+
+@pytest.mark.parametrize("ranks", [1, 2])
+def test_a_restart_with_interfaces_continues_bit_for_bit(tmp_path, ranks):
+    a, b = continued_with_mpirun(tmp_path, ranks)
+    assert set(a) == set(b) and any(k.startswith("interface/") for k in a)
+    for key in a:
+        if key != "solver/wall_time":
+            assert np.array_equal(a[key], b[key]), key
+
+
+def test_info_prints_each_interface(tmp_path):
+    out = tmp_path / "one.h5"
+    assert run_cli("run", dam_case(tmp_path, 0.2), "-o", out, "-q").returncode == 0
+    p = run_cli("info", out)
+    assert p.returncode == 0, p.stderr
+    line = [x for x in p.stdout.splitlines() if x.strip().startswith("interface contact")]
+    assert line, p.stdout
+    r = vstpetsc.Result(out)
+    slip = r.interface("contact").slip[:]
+    largest = np.abs(slip).max()
+    assert f"largest slip {largest:.4g}" in line[0], line
