@@ -110,9 +110,15 @@ def test_info_prints_each_interface(tmp_path):
     assert run_cli("run", dam_case(tmp_path, 0.2), "-o", out, "-q").returncode == 0
     p = run_cli("info", out)
     assert p.returncode == 0, p.stderr
-    line = [x for x in p.stdout.splitlines() if x.strip().startswith("interface contact")]
-    assert line, p.stdout
-    r = vstpetsc.Result(out)
-    slip = r.interface("contact").slip[:]
-    largest = np.abs(slip).max()
-    assert f"largest slip {largest:.4g}" in line[0], line
+    lines = p.stdout.splitlines()
+    at = [k for k, x in enumerate(lines) if x.strip().startswith("interface contact")]
+    assert at, p.stdout
+    text = "\n".join(lines[at[0]:at[0] + 3])
+    contact = vstpetsc.Result(out).interface("contact")
+    slip, gap, length = contact.slip[:], contact.gap[:], contact.length[:]
+    largest = slip.ravel()[np.abs(slip).argmax()]
+    permanent = slip[-1][np.abs(slip[-1]).argmax()]
+    assert f"{contact.nodes.shape[0]} node pairs, length {length.sum():.6g}" in text, text
+    assert f"largest slip {largest:.4g}" in text and f"permanent {permanent:.4g}" in text, text
+    assert f"largest opening {gap.max():.4g}" in text, text
+    assert f"largest length open {((gap > 0) @ length).max():.6g}" in text, text

@@ -174,7 +174,31 @@ def plane_summary(result):
         if xy.size else None
     out["stress"] = [(value, *map(float, centre[k]), float(time[i])) for value, k, i in stress] \
         if cells.size else []
+    out["interfaces"] = [interface_summary(result, name) for name in result.interfaces]
     return out
+
+
+def interface_summary(result, name):
+    """An interface's largest |slip| (with its pair's point and time), the
+    permanent slip (the largest |slip| at the end), the largest opening
+    and the largest length open at once (with its time)."""
+    g = result.interface(name)
+    slip, gap, length = g.slip[:], g.gap[:], g.length[:]
+    xy = result.mesh.coordinates[g.nodes[:][:, 0]]
+    time = result.time
+    out = {"name": name, "pairs": int(length.size), "length": float(length.sum())}
+    if not slip.size:
+        return {**out, "slip": None}
+    i, j = np.unravel_index(np.abs(slip).argmax(), slip.shape)
+    last = slip[-1]
+    k = int(np.abs(last).argmax())
+    opened = (gap > 0) @ length
+    n = int(opened.argmax())
+    m, p = np.unravel_index(gap.argmax(), gap.shape)
+    return {**out, "slip": (float(slip[i, j]), *map(float, xy[j]), float(time[i])),
+            "permanent": (float(last[k]), *map(float, xy[k])),
+            "opening": (float(gap[m, p]), *map(float, xy[p]), float(time[m])),
+            "open": (float(opened[n]), float(time[n]))}
 
 
 def plane_gauge_summary(result, name):
@@ -302,6 +326,17 @@ def plane_lines(p):
         lines.append(f"    largest speed {v:.6g} at ({x:.6g}, {y:.6g}), t = {t:.6g}")
     for name, (value, x, y, t) in zip(("sigma_xx", "sigma_yy", "sigma_xy"), p["stress"]):
         lines.append(f"    largest |{name}| {value:.6g} at ({x:.6g}, {y:.6g}), t = {t:.6g}")
+    for i in p.get("interfaces", ()):
+        lines.append(f"  interface {i['name']}: {i['pairs']} node pairs, length {i['length']:.6g}")
+        if i["slip"] is None:
+            continue
+        v, x, y, t = i["slip"]
+        lines.append(f"    largest slip {v:.4g} at ({x:.6g}, {y:.6g}), t = {t:.6g}; permanent "
+                     f"{i['permanent'][0]:.4g} at ({i['permanent'][1]:.6g}, "
+                     f"{i['permanent'][2]:.6g})")
+        v, x, y, t = i["opening"]
+        lines.append(f"    largest opening {v:.4g} at ({x:.6g}, {y:.6g}), t = {t:.6g}; largest "
+                     f"length open {i['open'][0]:.6g} at t = {i['open'][1]:.6g}")
     return lines
 
 
