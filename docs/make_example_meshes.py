@@ -8,6 +8,16 @@ dam-modes-section.msh: the triangular dam of dam-modes (height 40 m,
 slopes 2 : 1 both sides, crest 0, rows 4 m apart: the dam region of
 vstpetsc.plane.dam_mesh), its base curve "contact" and faces "faces".
 
+rockfill-dam-section.msh: the zoned rockfill dam of the rockfill-dam
+example on its foundation (vstpetsc.plane.rockfill_mesh with its default
+parameters: height 40 m, crest 8 m, slopes 2 : 1 upstream and 1.8 : 1
+downstream, a clay core 4 m wide at the crest whose faces slope 0.25 : 1,
+the foundation 300 m x 30 m, cells of about h = 2 m: 2250 quadrilaterals
+and 1724 triangles on 3260 nodes); regions "core", "upstream_shell",
+"downstream_shell", "foundation"; curves "base", "left", "right",
+"faces", "contact" (the dam's base) and "core_upstream", "core_downstream"
+(the core's faces, inner curves to split as interfaces).
+
 lamb-halfspace.msh: the half of a half-space beside the plane of symmetry
 x = 0 of the lamb example: [0, 250] x [-150, 0] m in squares of 2.5 m;
 curves "left" (the plane of symmetry), "right", "bottom", "top" (the free
@@ -24,6 +34,7 @@ import numpy as np
 
 from vstpetsc.plane.dam_mesh import dam_mesh
 from vstpetsc.plane.gmsh_file import write_gmsh22
+from vstpetsc.plane.rockfill_mesh import rockfill_mesh
 
 FOLDER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "vstpetsc", "examples")
 
@@ -59,8 +70,13 @@ def dam_section():
     return dam_mesh(40.0, 0.0, 2.0, 2.0, 10.0, 1000.0, 4.0).region_mesh("dam")
 
 
+def rockfill_dam_section():
+    return rockfill_mesh(h=2.0)
+
+
 if __name__ == "__main__":
     for name, mesh in (("dam-modes-section.msh", dam_section()),
-                       ("lamb-halfspace.msh", lamb_halfspace())):
+                       ("lamb-halfspace.msh", lamb_halfspace()),
+                       ("rockfill-dam-section.msh", rockfill_dam_section())):
         print("wrote", os.path.normpath(str(write_gmsh22(os.path.join(FOLDER, name), mesh))))
     print("wrote", os.path.normpath(write_lamb_load(os.path.join(FOLDER, "lamb-load.csv"))))

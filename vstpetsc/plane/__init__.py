@@ -5,12 +5,12 @@ What both geometries share stays where it is (the time algebra in
 vstpetsc.slab, the histories, the time loop in vstpetsc.driver, the
 recorder, the writer, the energy book, the CLI); this package holds the
 2-D tables (``schema``), the mesh and its sources (``mesh``, ``dam_mesh``,
-``dmplex``, ``gmsh_file``), the element matrices vectorised over every
+``rockfill_mesh``, ``dmplex``, ``gmsh_file``), the element matrices vectorised over every
 cell (``elements``, ``assembly``), the distribution (``distributed``), the
 model, its boundaries and loads (``model``, ``curves``, ``boundaries``,
 ``loads``, ``static``), the slab solver (``solver``, ``stepper``), gauges
 and energy (``gauges``, ``energy``) and interfaces (``interfaces``: the
 mesh split; the laws are issue 38's).  ``schema``, ``mesh``,
-``dam_mesh``, ``elements``, ``boundaries``, ``curves``, ``gauges`` and
+``dam_mesh``, ``rockfill_mesh``, ``elements``, ``boundaries``, ``curves``, ``gauges`` and
 ``interfaces`` import no PETSc.
 """
