@@ -141,7 +141,9 @@ class PairSet:
         errs by about that, and Newton contracts by it per step."""
         y, gap, stretch = self.y[s], self.gap[s], self.stretch[s]
         base = self.out[s][:, pk.F_T].copy()
-        acting = (self.out[s][:, pk.ACTED] > 0) & (self.kt[s] > 0)
+        # only a pair that slides somewhere in the slab feels its limit
+        acting = (self.out[s][:, pk.ACTED] > 0) & (self.kt[s] > 0) & \
+            (self.out[s][:, pk.DISSIPATED] != 0)
         cross = np.zeros((base.shape[0], 2, 2))
         if not acting.any():
             return cross

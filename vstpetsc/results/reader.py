@@ -109,7 +109,49 @@ class FileReads:
         return self._gauge_rows if layout.every_slab(name) else self._rows
 
 
-class Result(FileReads):
+class PlaneParts:
+    """What a plane-strain Result has beyond the shared parts: its mesh,
+    fields and interfaces (a 1-D result raises KeyError)."""
+
+    @property
+    def mesh(self):
+        """A plane-strain result's mesh: ``.coordinates`` (nn, 2), ``.cells``
+        (ne, 4; -1 pads a triangle), ``.region`` (ne,) and ``.region_names``."""
+        self._plane_only("mesh")
+        group = Group(self, plane_layout.MESH)
+        group.region_names = [text(n) for n in self.group_attrs(
+            f"{plane_layout.MESH}/region").get("names", [])]
+        return group
+
+    @property
+    def field(self):
+        """A plane-strain result's fields at the kept times: ``.u``, ``.v``
+        (nt, nn, 2), ``.stress`` (nt, ne, 3: sigma_xx, sigma_yy, sigma_xy)."""
+        self._plane_only("field")
+        return Group(self, plane_layout.FIELD)
+
+    def _plane_only(self, what):
+        if self.dimension != 2:
+            raise KeyError(f"{self.path} is a 1-D result: it has no {what} (see .body)")
+
+    @property
+    def interfaces(self):
+        """The names of a plane-strain result's interfaces (empty without)."""
+        return self.keys("interface") if "interface" in self else []
+
+    def interface(self, name):
+        """Datasets of a plane-strain interface: ``.nodes`` (m, 2), ``.normal``,
+        ``.tangent`` (m, 2), ``.length`` (m,), and at the kept times ``.gap``,
+        ``.normal_force``, ``.shear_force``, ``.slip``, ``.stretch`` (nt, m);
+        ``.attrs`` (formulation, penalty, friction, permanent_slip)."""
+        self._plane_only("interface")
+        if name not in self.interfaces:
+            raise KeyError(f"no interface {name!r} (interfaces: "
+                           f"{', '.join(self.interfaces) or 'none'})")
+        return Group(self, f"interface/{name}")
+
+
+class Result(PlaneParts, FileReads):
     """A result file of `vstpetsc run`.
 
     Examples
@@ -221,27 +263,6 @@ class Result(FileReads):
         """2 for a plane-strain result, 1 for bodies on a line."""
         return int(self.attrs.get(plane_layout.DIMENSION, 1))
 
-    @property
-    def mesh(self):
-        """A plane-strain result's mesh: ``.coordinates`` (nn, 2), ``.cells``
-        (ne, 4; -1 pads a triangle), ``.region`` (ne,) and ``.region_names``."""
-        self._plane_only("mesh")
-        group = Group(self, plane_layout.MESH)
-        group.region_names = [text(n) for n in self.group_attrs(
-            f"{plane_layout.MESH}/region").get("names", [])]
-        return group
-
-    @property
-    def field(self):
-        """A plane-strain result's fields at the kept times: ``.u``, ``.v``
-        (nt, nn, 2), ``.stress`` (nt, ne, 3: sigma_xx, sigma_yy, sigma_xy)."""
-        self._plane_only("field")
-        return Group(self, plane_layout.FIELD)
-
-    def _plane_only(self, what):
-        if self.dimension != 2:
-            raise KeyError(f"{self.path} is a 1-D result: it has no {what} (see .body)")
-
     def body(self, name):
         """Datasets of body ``name``: ``.x``, ``.u``, ``.v``, ``.stress``."""
         if name not in self.bodies:
@@ -255,22 +276,6 @@ class Result(FileReads):
         if not 0 <= int(k) < self.ncontacts:
             raise KeyError(f"no contact {k} (there are {self.ncontacts})")
         return Group(self, f"{layout.CONTACT}/{int(k)}")
-
-    @property
-    def interfaces(self):
-        """The names of a plane-strain result's interfaces (empty without)."""
-        return self.keys("interface") if "interface" in self else []
-
-    def interface(self, name):
-        """Datasets of a plane-strain interface: ``.nodes`` (m, 2), ``.normal``,
-        ``.tangent`` (m, 2), ``.length`` (m,), and at the kept times ``.gap``,
-        ``.normal_force``, ``.shear_force``, ``.slip``, ``.stretch`` (nt, m);
-        ``.attrs`` (formulation, penalty, friction, permanent_slip)."""
-        self._plane_only("interface")
-        if name not in self.interfaces:
-            raise KeyError(f"no interface {name!r} (interfaces: "
-                           f"{', '.join(self.interfaces) or 'none'})")
-        return Group(self, f"interface/{name}")
 
     @property
     def gauges(self):
