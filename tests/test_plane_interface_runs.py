@@ -122,3 +122,32 @@ def test_info_prints_each_interface(tmp_path):
     assert f"largest slip {largest:.4g}" in text and f"permanent {permanent:.4g}" in text, text
     assert f"largest opening {gap.max():.4g}" in text, text
     assert f"largest length open {((gap > 0) @ length).max():.6g}" in text, text
+
+
+def test_a_static_start_with_closed_interfaces_stays_at_rest(tmp_path):
+    """The dam at rest on its foundation under gravity, across its
+    interface (the generated dam; no shaking): [gravity] initial =
+    "static" solves K u = f with the interface's closed, sticking springs
+    (the power penalty's), and the run stays in that state: v = 0 and u
+    unchanged to rounding, the interface pressed by the dam's weight with
+    no slip.  (The seed penalty has no state at rest, as in 1-D:
+    docs/loads.md section 5; its start rings.)"""
+    formulation = "power"
+    text = DAM.format(end=0.1).replace(
+        'incident = {{ x = [[0.0, 0.0], [0.05, 1.2], [0.1, 0.0]], y = [[0.0, 0.0], [0.04, 0.8], '
+        '[0.08, 0.0]] }}'.replace("{{", "{").replace("}}", "}"), "")
+    text = text.replace('friction = 0.6', f'friction = 0.6\nformulation = "{formulation}"')
+    path = tmp_path / "rest.toml"
+    path.write_text(text)
+    r = vstpetsc.run(vstpetsc.Case.from_toml(path), output=str(tmp_path / "rest.h5"),
+                     quiet=True, out=io.StringIO())
+    u, v = r.field.u, r.field.v
+    scale = np.abs(u[0]).max()
+    contact = r.interface("contact")
+    N = contact.normal_force[1:].sum(axis=1)
+    print(formulation, "drift of u", np.abs(u - u[0]).max() / scale, "largest v",
+          np.abs(v).max(), "N", N[0], "slip", np.abs(contact.slip[:]).max())
+    assert np.abs(u - u[0]).max() <= 1e-10 * scale
+    assert np.abs(v).max() <= 1e-10 * scale / r.case().dt
+    assert np.ptp(N) <= 1e-10 * N[0] and np.all(contact.gap[:] <= 0)
+    assert np.abs(contact.slip[:]).max() <= 1e-10 * scale
