@@ -12,50 +12,25 @@ import pytest
 
 import vstpetsc
 from test_parallel import assert_same_result, mpirun
+from test_plane_run import DAM as PLAIN_DAM
 from test_plane_run import datasets, run_cli
 
-DAM = """
-[time]
-dt = 2.5e-3
-end = {end}
-[mesh]
-dam = {{ height = 20.0, crest = 4.0, upstream = 2.0, downstream = 1.5, foundation_depth = 12.0, foundation_width = 120.0, h = 4.0 }}
-[[region]]
-name = "dam"
-Vs = 300.0
-nu = 0.3
-rho = 2000.0
-damping = {{ beta = 1.0e-3 }}
-[[region]]
-name = "foundation"
-Vs = 800.0
-Vp = 1600.0
-rho = 2400.0
-[[boundary]]
-name = "base"
-type = "absorbing"
-incident = {{ x = [[0.0, 0.0], [0.05, 1.2], [0.1, 0.0]], y = [[0.0, 0.0], [0.04, 0.8], [0.08, 0.0]] }}
-[[boundary]]
-name = "left"
-type = "absorbing"
-[[boundary]]
-name = "right"
-type = "absorbing"
-[[interface]]
-name = "contact"
-friction = 0.6
-[gravity]
-g = -9.81
-initial = "static"
-[[gauge]]
-name = "crest"
-x = [0.0, 20.0]
-"""
+STRONG = ('incident = { x = [[0.0, 0.0], [0.05, 1.2], [0.1, 0.0]], '
+          'y = [[0.0, 0.0], [0.04, 0.8], [0.08, 0.0]] }')
+INTERFACE = '\n[[interface]]\nname = "contact"\nfriction = 0.6\n'
+
+
+def dam_text(end, incident=STRONG):
+    """test_plane_run's dam with its base an interface, shaken by
+    ``incident`` (stronger pulses than there: it slides and lifts)."""
+    text = PLAIN_DAM.format(end=end)
+    old = [line for line in text.splitlines() if line.startswith("incident = ")][0]
+    return text.replace(old, incident) + INTERFACE
 
 
 def dam_case(tmp_path, end=0.3, name="dam"):
     path = tmp_path / f"{name}.toml"
-    path.write_text(DAM.format(end=end))
+    path.write_text(dam_text(end))
     return path
 
 
@@ -132,11 +107,7 @@ def test_a_static_start_with_closed_interfaces_stays_at_rest(tmp_path):
     unchanged to rounding, the interface pressed by the dam's weight with
     no slip.  (The seed penalty has no state at rest, as in 1-D:
     docs/loads.md section 5; its start rings.)"""
-    formulation = "power"
-    text = DAM.format(end=0.1).replace(
-        'incident = {{ x = [[0.0, 0.0], [0.05, 1.2], [0.1, 0.0]], y = [[0.0, 0.0], [0.04, 0.8], '
-        '[0.08, 0.0]] }}'.replace("{{", "{").replace("}}", "}"), "")
-    text = text.replace('friction = 0.6', f'friction = 0.6\nformulation = "{formulation}"')
+    text = dam_text(0.1, "").replace('friction = 0.6', 'friction = 0.6\nformulation = "power"')
     path = tmp_path / "rest.toml"
     path.write_text(text)
     r = vstpetsc.run(vstpetsc.Case.from_toml(path), output=str(tmp_path / "rest.h5"),
@@ -145,7 +116,7 @@ def test_a_static_start_with_closed_interfaces_stays_at_rest(tmp_path):
     scale = np.abs(u[0]).max()
     contact = r.interface("contact")
     N = contact.normal_force[1:].sum(axis=1)
-    print(formulation, "drift of u", np.abs(u - u[0]).max() / scale, "largest v",
+    print("drift of u", np.abs(u - u[0]).max() / scale, "largest v",
           np.abs(v).max(), "N", N[0], "slip", np.abs(contact.slip[:]).max())
     assert np.abs(u - u[0]).max() <= 1e-10 * scale
     assert np.abs(v).max() <= 1e-10 * scale / r.case().dt
