@@ -428,16 +428,93 @@ def _lamb(f, result):
             "\n\n![lamb surface velocity](figures/lamb-surface.png)")
 
 
+
+def _crest_spectrum(axis, result, label):
+    """The crest gauge's horizontal 5 % response spectrum (psa in g)."""
+    from vstpetsc.spectrum import acceleration
+
+    gauge = result.gauge("crest")
+    periods = np.logspace(-2, 1, 120)
+    s = vstpetsc.response_spectrum(acceleration(gauge.v[:, 0], gauge.dt), gauge.dt, periods,
+                                   0.05)
+    axis.loglog(periods, s["psa"] / 9.81, label=label)
+    axis.set_xlabel("period [s]")
+    axis.set_ylabel("psa [g], 5 %")
+    return s
+
+
+def _interface_figure(result, name, title):
+    """Each interface's largest |slip| and opening over time, the crest's
+    spectrum and the energy balance: figures/NAME-interfaces.png."""
+    import matplotlib.pyplot as plt
+
+    t = result.time
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6), constrained_layout=True)
+    for face in result.interfaces:
+        g = result.interface(face)
+        axes[0].plot(t, 1e3 * np.abs(g.slip[:]).max(axis=1), label=f"{face}: largest |slip|")
+        axes[0].plot(t, 1e3 * np.maximum(g.gap[:], 0).max(axis=1), ":",
+                     label=f"{face}: largest opening")
+    axes[0].set_xlabel("t [s]")
+    axes[0].set_ylabel("mm")
+    axes[0].legend(fontsize=7)
+    _crest_spectrum(axes[1], result, "crest, x")
+    e = result.energy
+    for key in ("kinetic", "strain", "contact", "friction", "numerical"):
+        axes[2].plot(t, e[key] / 1e3, label=key)
+    axes[2].set_xlabel("t [s]")
+    axes[2].set_ylabel("kJ per m")
+    axes[2].legend(fontsize=7)
+    fig.suptitle(title, fontsize=10)
+    fig.savefig(os.path.join(HERE, "figures", f"{name}-interfaces.png"), dpi=110)
+    plt.close(fig)
+
+
+def _gravity_dam(f, result):
+    """Key numbers and the interface figure of gravity-dam: its slip
+    against a rigid block's (tests/references/rigid_block.py)."""
+    sys.path.insert(0, os.path.join(HERE, "..", "tests"))
+    from references.rigid_block import rigid_block_slip
+
+    g = result.interface("contact")
+    mu = result.case().plane.interfaces[0].friction
+    record = np.loadtxt(bundled.companions("gravity-dam")[0], delimiter=",", skiprows=1)
+    rigid = rigid_block_slip(record[:, 0], record[:, 1], 0.5 * record[:, 2], mu, 9.81)[-1]
+    slip, length = g.slip[-1], g.length[:]
+    mean = float(slip @ length / length.sum())
+    _interface_figure(result, "gravity-dam", "gravity-dam: the base's slip and opening, "
+                      "the crest's spectrum, the energy")
+    return (f"permanent slip of the base {1e3 * slip.min():.1f} to {1e3 * slip.max():.1f} mm "
+            f"pair by pair, {1e3 * mean:.1f} mm on average (a rigid block on the same records: "
+            f"{1e3 * rigid:.1f} mm); heel open up to {1e3 * g.gap[:].max():.2f} mm; friction "
+            f"dissipated {f['energy/friction'][-1] / 1e3:.1f} kJ per m\n\n"
+            "![gravity-dam interfaces](figures/gravity-dam-interfaces.png)")
+
+
+def _rockfill_dam(f, result):
+    """Key numbers and the interface figure of rockfill-dam."""
+    _interface_figure(result, "rockfill-dam", "rockfill-dam: each interface's slip and "
+                      "opening, the crest's spectrum, the energy")
+    parts = []
+    for face in result.interfaces:
+        g = result.interface(face)
+        parts.append(f"{face} {1e3 * np.abs(g.slip[:]).max():.1f} mm")
+    return ("largest slip: " + ", ".join(parts) + f"; friction dissipated "
+            f"{f['energy/friction'][-1] / 1e3:.1f} kJ per m\n\n"
+            "![rockfill-dam interfaces](figures/rockfill-dam-interfaces.png)")
+
+
 KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "periodic-impacts": _periodic, "layered": _layered, "wave": _wave,
        "site-response": _site, "uplift": _uplift, "drop": _drop, "pile": _pile,
        "bouncing-bar": _bouncing, "sliding-block": _sliding_block,
        "dam-interface": _dam_interface, "nonlinear-site": _nonlinear_site,
        "rockfill-column": _rockfill_column, "plane-column": _plane_column,
-       "dam-modes": _dam_modes, "lamb": _lamb}
+       "dam-modes": _dam_modes, "lamb": _lamb, "gravity-dam": _gravity_dam,
+       "rockfill-dam": _rockfill_dam}
 NEEDS_RESULT = {"nonlinear-site", "site-response", "uplift", "drop", "pile", "bouncing-bar",
                 "sliding-block", "dam-interface", "rockfill-column", "plane-column",
-                "dam-modes", "lamb"}
+                "dam-modes", "lamb", "gravity-dam", "rockfill-dam"}
 
 
 def main(only=None):
