@@ -17,13 +17,15 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
        vstpetsc info RESULT.h5                   one-screen summary of a result
        vstpetsc plot RESULT.h5 [-o FIGURE.png] [--times T1,T2] [--color speed|sxx|syy|sxy]
                                                  velocity map and what the case has; 2-D: the
-                                                 deformed mesh by speed at T1, T2, gauges, energy
+                                                 deformed mesh by speed at T1, T2, gauges, energy,
+                                                 each interface's slip and opening
        vstpetsc sweep CASE.toml --set KEY=V1,V2,... [--set ...] [-o DIR] [--quiet]
                     [--ranks-per-run K] [PETSc options ...]   a run per combination, DIR/summary.csv
        vstpetsc plot DIR/summary.csv [--x KEY] [--y QUANTITY] [-o FIGURE.png]
        vstpetsc export RESULT.h5 [--csv DIR] [--xdmf]
                                                  time series as CSV files in DIR; RESULT.xdmf
-                                                 (u, v, stress over time, 1-D or 2-D) for ParaView
+                                                 (u, v, stress over time, 1-D or 2-D; a 2-D
+                                                 result's interfaces) for ParaView
        vstpetsc spectrum RESULT.h5 --gauge NAME [--component shear|axial|x|y] [--damping 0.05]
                     [--periods A:B:N] [--csv FILE] [-o FIGURE.png]   response spectrum
        vstpetsc transfer RESULT.h5 --from NAME --to NAME [--component shear|axial|x|y]

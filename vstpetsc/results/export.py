@@ -35,7 +35,12 @@ kinds interleave in the file); ``region`` (cells) is /mesh/region; u, v
 (nodes, 2 components) and stress (cells, 3 components: sigma_xx,
 sigma_yy, sigma_xy) of each kept time are hyperslabs of /field.
 tests/test_plane_outputs.py opens it with VTK's vtkXdmfReader (ParaView's
-XDMF reader) and finds the datasets bit for bit.
+XDMF reader) and finds the datasets bit for bit.  Each interface adds a
+temporal collection ``interface-<name>``: a Polyvertex cell per node pair
+at its first-side node (column 0 of /interface/<name>/nodes into
+/mesh/coordinates, by reference), the cell values length and, per kept
+time, gap, normal_force, shear_force and slip by hyperslab
+(tests/test_plane_interface_outputs.py reads them back bit for bit).
 """
 
 import os
@@ -51,6 +56,8 @@ KEPT_GROUPS = ("energy", "solver")
 SHEAR_GROUP = "shear"       # /body/<name>/shear: the shear component's datasets
 PLANE_GRID = "mesh"         # the name of a plane-strain result's temporal collection
 PLANE_FIELDS = (("u", "Node"), ("v", "Node"), ("stress", "Cell"))
+# an interface's series in its XDMF grid (stretch, a law's inner state, stays in the file)
+INTERFACE_FIELDS = ("gap", "normal_force", "shear_force", "slip")
 XDMF_TRIANGLE, XDMF_QUADRILATERAL = 4, 5     # XDMF's codes of cells in a Mixed topology
 
 
@@ -251,6 +258,37 @@ def _plane_grids(result, h5):
     return lines + ["</Grid>"]
 
 
+def _interface_grids(result, name, h5):
+    """The XML lines of interface ``name``'s temporal collection,
+    ``interface-<name>``: a Polyvertex cell per node pair at its first
+    side's node (the topology column 0 of /interface/<name>/nodes, the
+    geometry /mesh/coordinates, both by reference), and per kept time
+    the pairs' gap, normal_force, shear_force and slip (cell values) by
+    hyperslab into /interface/<name>; the pairs' tributary length once."""
+    group = f"{plane_layout.INTERFACE}/{name}"
+    pairs = result.interface(name).nodes
+    m, times = pairs.shape[0], result.time
+    coordinates = f"{plane_layout.MESH}/coordinates"
+    grid = f"interface-{name}"
+    mesh = (f'<Topology TopologyType="Polyvertex" NodesPerElement="1" NumberOfElements="{m}">'
+            + _hyperslab(h5, f"{group}/nodes", pairs.shape, (0, 0), (m, 1), pairs.dtype)
+            + '</Topology><Geometry GeometryType="XY">'
+            + _hdf(h5, coordinates, result.mesh.coordinates.shape) + "</Geometry>"
+            + '<Attribute Name="length" AttributeType="Scalar" Center="Cell">'
+            + _hdf(h5, f"{group}/length", (m,)) + "</Attribute>")
+    shared = (f'<xi:include xpointer="xpointer(//Grid[@Name=\'{grid}-0\']/*[self::Topology or '
+              'self::Geometry or self::Attribute[@Name=\'length\']])"/>')
+    lines = [f'<Grid Name={quoteattr(grid)} GridType="Collection" CollectionType="Temporal">']
+    for i, t in enumerate(times):
+        lines.append(f'<Grid Name={quoteattr(f"{grid}-{i}")} GridType="Uniform">'
+                     + (mesh if i == 0 else shared) + f'<Time Value="{float(t)!r}"/>')
+        for key in INTERFACE_FIELDS:
+            lines.append(f'<Attribute Name="{key}" AttributeType="Scalar" Center="Cell">'
+                         + _slab(h5, f"{group}/{key}", i, (times.size, m)) + "</Attribute>")
+        lines.append("</Grid>")
+    return lines + ["</Grid>"]
+
+
 def to_xdmf(result, path=None):
     """Write the XDMF index of ``result`` (default: RESULT.xdmf beside the
     file); returns its path.  The HDF5 file is named relative to it."""
@@ -260,6 +298,8 @@ def to_xdmf(result, path=None):
              '<Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">', "<Domain>"]
     if result.dimension == 2:
         lines += _plane_grids(result, h5)
+        for name in result.interfaces:
+            lines += _interface_grids(result, name, h5)
     for body in result.bodies:
         lines += _body_grids(result, body, h5)
     lines += ["</Domain>", "</Xdmf>"]

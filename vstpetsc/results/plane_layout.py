@@ -19,6 +19,7 @@ PAIR_SERIES = ("gap", "normal_force", "shear_force", "slip", "stretch")
 
 MESH = "mesh"
 FIELD = "field"
+INTERFACE = "interface"      # /interface/<name>: a [[interface]]'s pairs
 DIMENSION = "dimension"
 REQUIRED = ("time", MESH, FIELD, "energy", "solver")
 

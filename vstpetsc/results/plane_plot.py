@@ -1,7 +1,8 @@
 """The figure of a plane-strain result (`vstpetsc plot` of a 2-D file):
 (a) the deformed mesh coloured by the speed |v| at chosen kept times, the
 displacements magnified by one factor for every panel, (b) the gauges'
-v_x and v_y over time, (c) the energy terms.  Every cell is drawn at once
+v_x and v_y over time, (c) the energy terms, then a row per interface
+(:mod:`vstpetsc.results.interface_plot`).  Every cell is drawn at once
 (matplotlib's tripcolor and a PolyCollection), no loop over cells."""
 
 import numpy as np
@@ -121,26 +122,15 @@ def gauge_velocities(ax, r, u):
     return ax
 
 
-def plane_figure(r, times=None, colour="speed"):
-    """The figure of plane-strain Result ``r``: a mesh panel per chosen
-    time (:func:`chosen_rows`) coloured by ``colour`` (a key of COLOURS)
-    with one colour bar, then the gauges (if any) and the energies."""
-    from vstpetsc.results.figure_parts import energy_panel, pyplot, units
-
-    if colour not in COLOURS:
-        raise InputError(f"color: one of {', '.join(COLOURS)}, got {colour!r}")
-    plt = pyplot()
-    u = units(r.attrs)
-    rows = chosen_rows(r, times)
+def mesh_panels(fig, spec, r, rows, colour, u):
+    """(a) the mesh panels in grid cell ``spec``, one per kept row of
+    ``rows``, coloured by ``colour`` with one colour bar; returns the
+    magnification."""
     coordinates, cells = r.mesh.coordinates, r.mesh.cells
     displacements = r.read(plane_layout.field_path("u"), np.s_[rows])
     values, limits, label = panel_values(r, rows, colour)
     factor = magnification(coordinates, displacements)
-    width, height = np.ptp(coordinates, axis=0)
-    panel = np.clip(10.5 / len(rows) * height / max(width, 1e-300), 2.0, 6.0)
-    fig = plt.figure(figsize=(11, panel + 4.2), constrained_layout=True)
-    grid = fig.add_gridspec(2, 1, height_ratios=[panel, 3.8])
-    top = grid[0].subgridspec(1, len(rows))
+    top = spec.subgridspec(1, len(rows))
     axes = [fig.add_subplot(top[0, k]) for k in range(len(rows))]
     for k, (ax, row) in enumerate(zip(axes, rows)):
         shade = mesh_panel(ax, coordinates, cells, displacements[k], values[k], factor, limits)
@@ -149,6 +139,31 @@ def plane_figure(r, times=None, colour="speed"):
     axes[0].set_ylabel(f"y [{u['length']}]")
     unit = u["velocity"] if colour == "speed" else "Pa"
     fig.colorbar(shade, ax=axes, label=f"{label} [{unit}]")
+    return factor
+
+
+def plane_figure(r, times=None, colour="speed"):
+    """The figure of plane-strain Result ``r``: a mesh panel per chosen
+    time (:func:`chosen_rows`) coloured by ``colour`` (a key of COLOURS)
+    with one colour bar, then the gauges (if any) and the energies, then
+    a row per interface (:mod:`vstpetsc.results.interface_plot`)."""
+    from vstpetsc.results.figure_parts import energy_panel, pyplot, units
+    from vstpetsc.results.interface_plot import INTERFACE_ROW, interface_rows
+
+    if colour not in COLOURS:
+        raise InputError(f"color: one of {', '.join(COLOURS)}, got {colour!r}")
+    plt = pyplot()
+    u = units(r.attrs)
+    rows = chosen_rows(r, times)
+    coordinates, cells = r.mesh.coordinates, r.mesh.cells
+    interfaces = r.interfaces
+    width, height = np.ptp(coordinates, axis=0)
+    panel = np.clip(10.5 / len(rows) * height / max(width, 1e-300), 2.0, 6.0)
+    fig = plt.figure(figsize=(11, panel + 4.2 + INTERFACE_ROW * len(interfaces)),
+                     constrained_layout=True)
+    grid = fig.add_gridspec(2 + len(interfaces), 1,
+                            height_ratios=[panel, 3.8] + [INTERFACE_ROW - 0.4] * len(interfaces))
+    factor = mesh_panels(fig, grid[0], r, rows, colour, u)
     fig.suptitle(f"plane strain, {len(cells)} cells ({r.status}): the mesh deformed by u "
                  f"magnified {factor:.4g} times", fontsize=11)
     bottom = grid[1].subgridspec(1, 2 if r.gauges else 1)
@@ -156,4 +171,6 @@ def plane_figure(r, times=None, colour="speed"):
         gauge_velocities(fig.add_subplot(bottom[0, 0]), r, u)
     energy = energy_panel(fig.add_subplot(bottom[0, -1]), r, u)
     energy.set_title("(c) energy" if r.gauges else "(b) energy")
+    interface_rows(fig, [grid[2 + k] for k in range(len(interfaces))], r, rows, u,
+                   "d" if r.gauges else "c")
     return fig
