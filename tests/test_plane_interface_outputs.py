@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from test_plane_interface_runs import DAM
+from test_plane_interface_runs import dam_text
 from test_plane_outputs import PNG, assert_index_copies_no_float, main, vtk_reader, vtk_times
 from vstpetsc.results.interface_plot import curve_order, curve_segments, interface_order
 
@@ -25,7 +25,7 @@ PAIR_FIELDS = ("gap", "normal_force", "shear_force", "slip")
 def dam(tmp_path_factory):
     """The dam with its interface "contact", run to 0.3 s (121 kept rows)."""
     folder = tmp_path_factory.mktemp("interface-outputs")
-    (folder / "dam.toml").write_text(DAM.format(end=0.3))
+    (folder / "dam.toml").write_text(dam_text(0.3))
     return vstpetsc.run(vstpetsc.Case.from_toml(folder / "dam.toml"),
                         output=str(folder / "dam.h5"), quiet=True, out=io.StringIO())
 
