@@ -5,7 +5,9 @@ about H_CELL) shaken through its absorbing base, per slab: welded (no
 [[interface]]), with its base an interface that stays closed and sticks
 (friction 10: every pair in the linear regime, A_c's one solve), and
 with one that slides (friction 0.05: every pair slides, Newton with the
-dense coupling's steps, and with -vst_contact_steps krylov).  One rank,
+dense coupling's steps, and with -vst_contact_steps krylov); "sticking"
+under a tenth of the shaking (every pair closed and sticking), "sticking,
+heel lifting" under all of it (the heel's pairs open as the dam rocks).  One rank,
 the run's own slab loop (rhs, solve, advance) after WARM slabs of
 shaking; min / median of REPEATS batches of BATCH slabs, the variants
 interleaved in one process.
@@ -35,18 +37,20 @@ from vstpetsc.plane.model import PlaneModel
 from vstpetsc.plane.solver import PlaneSolver
 
 H_CELL, REPEATS, BATCH, WARM = 1.0, 5, 10, 60
+GENTLE = 0.1            # the shaking that leaves every pair closed and sticking
 END_2, REPEATS_2 = 1.2, 3
 SHAKE = [[0.0, 0.0], [0.1, 2.0], [0.2, -2.0], [0.3, 2.0], [0.4, -2.0], [0.5, 2.0],
          [0.6, -2.0], [0.7, 2.0], [0.8, -2.0], [0.9, 2.0], [1.0, 0.0], [10.0, 0.0]]
 
 
-def dam_case(friction, h):
+def dam_case(friction, h, scale=1.0):
+    shake = [[t, scale * v] for t, v in SHAKE]
     doc = {"time": {"dt": 2e-3, "end": 1.0},
            "mesh": {"dam": {"height": 40.0, "crest": 8.0, "upstream": 0.1, "downstream": 0.8,
                             "foundation_depth": 40.0, "foundation_width": 200.0, "h": h}},
            "region": [{"name": "dam", "E": 2.5e10, "nu": 0.2, "rho": 2400.0},
                       {"name": "foundation", "E": 4.0e10, "nu": 0.25, "rho": 2600.0}],
-           "boundary": [{"name": "base", "type": "absorbing", "incident": {"x": SHAKE}},
+           "boundary": [{"name": "base", "type": "absorbing", "incident": {"x": shake}},
                         {"name": "left", "type": "absorbing"},
                         {"name": "right", "type": "absorbing"}],
            "gravity": {"g": -9.81, "initial": "static"}}
@@ -92,14 +96,23 @@ def batch(part):
     return (time.perf_counter() - t0) / BATCH
 
 
-def sliding_share(part):
-    model = part[3]
-    return float((np.abs(model.pairs.out[:, 14]) > 0).mean()) if model.pairs else 0.0
+def changed_share(part):
+    """The share of the pairs not closed and sticking in the last slab
+    (open somewhere in it, or sliding)."""
+    from vstpetsc.plane import pair_kernels as pk
+
+    pairs = part[3].pairs
+    if pairs is None:
+        return 0.0
+    out = pairs.out
+    changed = (out[:, pk.ACTED] == 0) | (out[:, pk.DISSIPATED] != 0) | (pairs.gap > 0)
+    return float(changed.mean())
 
 
 def per_slab(h, repeats):
     variants = {"welded": build(dam_case(None, h)),
-                "sticking": build(dam_case(10.0, h)),
+                "sticking": build(dam_case(10.0, h, GENTLE)),
+                "sticking, heel lifting": build(dam_case(10.0, h)),
                 "sliding (dense)": build(dam_case(0.05, h)),
                 "sliding (krylov)": build(dam_case(0.05, h),
                                           (("vst_contact_steps", "krylov"),))}
@@ -110,7 +123,7 @@ def per_slab(h, repeats):
     out = {}
     for name, t in times.items():
         out[name] = {"min_ms": 1e3 * min(t), "median_ms": 1e3 * statistics.median(t),
-                     "sliding_pairs": sliding_share(variants[name]),
+                     "changed_pairs": changed_share(variants[name]),
                      "pairs": variants[name][3].pairs.m if variants[name][3].pairs else 0}
     out["cells"] = variants["welded"][3].ncells
     return out
@@ -144,12 +157,13 @@ def main(argv):
     welded = res["welded"]
     print(f"gravity dam, {res['cells']} cells, {res['sticking']['pairs']} pairs; per slab, "
           "min / median ms, and ratio to welded (min / median)")
-    for name in ("welded", "sticking", "sliding (dense)", "sliding (krylov)"):
+    for name in ("welded", "sticking", "sticking, heel lifting", "sliding (dense)",
+                 "sliding (krylov)"):
         r = res[name]
         print(f"| {name} | {r['min_ms']:.2f} / {r['median_ms']:.2f} | "
               f"{r['min_ms'] / welded['min_ms']:.2f} / "
               f"{r['median_ms'] / welded['median_ms']:.2f} | "
-              f"{100 * r['sliding_pairs']:.0f} % sliding |", flush=True)
+              f"{100 * r['changed_pairs']:.0f} % open or sliding |", flush=True)
     if "--no-ranks" not in argv:
         two = ranks(1 if quick else REPEATS_2)
         one, pair = two["1 rank"], two["2 ranks"]

@@ -1,4 +1,6 @@
-"""Newton on a plane-strain slab with interface pairs.
+"""Newton on a plane-strain slab's unknowns with interface pairs, its
+steps by GMRES (``-vst_contact_steps krylov``; the default, Newton on the
+pairs' coordinates, is vstpetsc.plane.pair_newton).
 
 The slab's equations with the pairs' terms, R(X) = A X - r + E f(E^T X)
 = 0, are solved on the full slab unknowns: with A_c = A + E W_c E^T (every
@@ -86,7 +88,19 @@ class PairDofs:
                              mode=PETSc.ScatterMode.REVERSE)
 
 
-class ContactNewton:
+class HeldWork:
+    """The work at held dofs of a Newton's last pairs' terms (``values``,
+    E's entries of f - W_c y, at the pairs' unknowns ``z``)."""
+
+    def held_work(self):
+        """Rank 0: the slab's work of the pairs' terms beyond A_c's springs
+        at held dofs (a part of their reactions' work)."""
+        if self.values is None or not self.dofs.held.any():
+            return 0.0
+        return float((self.values * self.dofs.held * self.z).sum())
+
+
+class ContactNewton(HeldWork):
     """Newton for the slabs of ``A_c`` (its solver ``inner``, set up) with
     ``pairs`` (a PairSet: kernels and state on rank 0) at ``dofs``."""
 
@@ -96,8 +110,8 @@ class ContactNewton:
         self.R, self.dx = A_c.createVecLeft(), A_c.createVecLeft()
         self.trial = A_c.createVecLeft()
         dofs.bind(self.R)
-        from vstpetsc.plane.newton_steps import steps_for
-        self.steps = steps_for(self)
+        from vstpetsc.plane.newton_steps import KrylovSteps
+        self.steps = KrylovSteps(self)
         self.blocks = self.values = self.z = None
         self.linear = True
         self.iterations = self.krylov = 0
@@ -124,14 +138,6 @@ class ContactNewton:
         self.linear = self.comm.tompi4py().bcast(linear, root=0)
         return R.norm()
 
-    def held_work(self):
-        """Rank 0: the slab's work of the pairs' terms beyond A_c's springs
-        at held dofs (a part of their reactions' work), at the last
-        evaluation."""
-        if self.values is None or not self.dofs.held.any():
-            return 0.0
-        return float((self.values * self.dofs.held * self.z).sum())
-
     def solve(self, b, x, k):
         """x solves the slab of right-hand side b, from x's start (slab k
         for messages); returns (Newton iterations, Krylov iterations)."""
@@ -150,7 +156,7 @@ class ContactNewton:
 
     def _step(self):
         """dx = -J^{-1} R: one solve with A_c when every pair is linear,
-        else the step kind's (vstpetsc.plane.newton_steps)."""
+        else GMRES's (vstpetsc.plane.newton_steps.KrylovSteps)."""
         self.R.scale(-1.0)
         if self.linear:
             self.inner.solve(self.R, self.dx)

@@ -125,8 +125,13 @@ class PairSet:
         return np.stack([node, -node], axis=1).reshape(-1, 8)
 
     def evaluate(self, z):
-        """The kernels at z: fills ``out``, ``y`` and ``cross``."""
-        self.y = self.coordinates(z)
+        """The kernels at the pairs' slab unknowns z (m, 8)."""
+        self.evaluate_at(self.coordinates(z))
+
+    def evaluate_at(self, y):
+        """The kernels at the pairs' coordinates y (m, 4): fills ``out``,
+        ``y`` and ``cross``."""
+        self.y = y
         for info, kernel in zip(self.infos, self.kernels):
             s = info.pairs
             self.out[s] = kernel.evaluate(self.gap[s], self.y[s], self.stretch[s])
@@ -156,16 +161,31 @@ class PairSet:
             cross[:, :, b] = np.where(acting[:, None], (f - base) / step[:, None], 0.0)
         return cross
 
-    def difference(self):
-        """(f - W_c y as E's dof entries (m, 8), the Jacobian's difference
-        blocks (m, 2, 2) normal and tangential) at the last evaluation."""
+    def excess(self):
+        """f - W_c y (m, 4) at the last evaluation: the pairs' terms beyond
+        A_c's springs (a constant while a pair is closed and sticking)."""
         out, y = self.out, self.y
         f = np.concatenate([out[:, pk.F_N], out[:, pk.F_T]], axis=1)
         f[:, 0:2] -= self.spring_n[:, None] * (y[:, 0:2] @ self.hk.T)
         f[:, 2:4] -= self.spring_t[:, None] * (y[:, 2:4] @ self.hk.T)
-        dn = out[:, pk.W_N].reshape(-1, 2, 2) - self.spring_n[:, None, None] * self.hk
-        dt_ = out[:, pk.W_T].reshape(-1, 2, 2) - self.spring_t[:, None, None] * self.hk
-        return self.to_dofs(f), dn, dt_, self.cross
+        return f
+
+    def excess_tangent(self):
+        """d(f - W_c y)/dy (m, 4, 4) at the last evaluation (friction's
+        dependence on the normal rates from ``cross``)."""
+        D = np.zeros((self.m, 4, 4))
+        D[:, 0:2, 0:2] = self.out[:, pk.W_N].reshape(-1, 2, 2) - \
+            self.spring_n[:, None, None] * self.hk
+        D[:, 2:4, 2:4] = self.out[:, pk.W_T].reshape(-1, 2, 2) - \
+            self.spring_t[:, None, None] * self.hk
+        D[:, 2:4, 0:2] = self.cross
+        return D
+
+    def difference(self):
+        """(f - W_c y as E's dof entries (m, 8), the Jacobian's difference
+        blocks (m, 2, 2) normal, tangential and tangential by normal)."""
+        D = self.excess_tangent()
+        return self.to_dofs(self.excess()), D[:, 0:2, 0:2], D[:, 2:4, 2:4], D[:, 2:4, 0:2]
 
     def apply_difference(self, dz, dn, dtan, cross):
         """E (W - W_c) E^T on the pairs' entries dz (m, 8) (W with friction's

@@ -82,8 +82,12 @@ class PlaneSolver:
         self.newton = None if self.pairs is None else self._newton(comm)
 
     def _newton(self, comm):
-        """The interfaces' Newton (vstpetsc.plane.contact_newton) on A_c."""
+        """The interfaces' Newton on A_c: on the pairs' coordinates
+        (vstpetsc.plane.pair_newton), or on the slab's unknowns with GMRES
+        steps (contact_newton), newton_steps.kind."""
         from vstpetsc.plane.contact_newton import ContactNewton, PairDofs
+        from vstpetsc.plane.newton_steps import kind
+        from vstpetsc.plane.pair_newton import PairNewton
 
         nodes = self.pairs.global_nodes
         index = (2 * (2 * nodes[:, :, None, None] + np.arange(2)[:, None])
@@ -92,7 +96,8 @@ class PlaneSolver:
         held = np.isin(index, np.concatenate(held)) if comm.getRank() == 0 \
             else np.zeros(index.shape, dtype=bool)
         dofs = PairDofs(comm, index, held)
-        return ContactNewton(self.A, self.ksp, self.pairs, dofs, comm)
+        newton = PairNewton if kind(self.pairs) == "dense" else ContactNewton
+        return newton(self.A, self.ksp, self.pairs, dofs, comm)
 
     def describe(self):
         pc = self.ksp.getPC()
