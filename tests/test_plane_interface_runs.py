@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from test_parallel import assert_same_result, mpirun
+from test_parallel import mpirun
 from test_plane_run import DAM as PLAIN_DAM
-from test_plane_run import datasets, run_cli
+from test_plane_run import datasets, mpirun_against_one_rank, run_cli
 
 STRONG = ('incident = { x = [[0.0, 0.0], [0.05, 1.2], [0.1, 0.0]], '
           'y = [[0.0, 0.0], [0.04, 0.8], [0.08, 0.0]] }')
@@ -50,13 +50,7 @@ def test_the_dam_slides_lifts_and_keeps_its_balance(tmp_path):
 
 
 def test_the_dam_with_its_interface_on_two_ranks_equals_one(tmp_path):
-    case = dam_case(tmp_path)
-    one, two = tmp_path / "one.h5", tmp_path / "two.h5"
-    p = run_cli("run", case, "-o", one, "-q")
-    assert p.returncode == 0, p.stderr
-    p = mpirun("run", case, "-o", two, "-q")
-    assert p.returncode == 0, p.stderr
-    assert_same_result(one, two, rtol=1e-10)
+    mpirun_against_one_rank(tmp_path, dam_case(tmp_path))
 
 
 def continued_with_mpirun(tmp_path, ranks):

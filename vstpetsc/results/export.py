@@ -246,14 +246,21 @@ def _plane_grids(result, h5):
     first = f"{PLANE_GRID}-0"
     shared = (f'<xi:include xpointer="xpointer(//Grid[@Name=\'{first}\']/*[self::Topology or '
               'self::Geometry or self::Attribute[@Name=\'region\']])"/>')
-    lines = [f'<Grid Name="{PLANE_GRID}" GridType="Collection" CollectionType="Temporal">']
+    return _temporal(PLANE_GRID, times, mesh, shared, lambda i: [
+        f'<Attribute Name="{name}" AttributeType="Vector" Center="{center}">'
+        + _slab(h5, plane_layout.field_path(name), i, shapes[center]) + "</Attribute>"
+        for name, center in PLANE_FIELDS])
+
+
+def _temporal(grid, times, first, shared, attributes):
+    """A temporal collection ``grid`` of a grid per time: the first with
+    the parts ``first``, the others including them (``shared``), each with
+    the lines ``attributes(i)``."""
+    lines = [f'<Grid Name={quoteattr(grid)} GridType="Collection" CollectionType="Temporal">']
     for i, t in enumerate(times):
-        lines.append(f'<Grid Name="{PLANE_GRID}-{i}" GridType="Uniform">'
-                     + (mesh if i == 0 else shared) + f'<Time Value="{float(t)!r}"/>')
-        for name, center in PLANE_FIELDS:
-            lines.append(f'<Attribute Name="{name}" AttributeType="Vector" Center="{center}">'
-                         + _slab(h5, plane_layout.field_path(name), i, shapes[center])
-                         + "</Attribute>")
+        lines.append(f'<Grid Name={quoteattr(f"{grid}-{i}")} GridType="Uniform">'
+                     + (first if i == 0 else shared) + f'<Time Value="{float(t)!r}"/>')
+        lines += attributes(i)
         lines.append("</Grid>")
     return lines + ["</Grid>"]
 
@@ -278,15 +285,10 @@ def _interface_grids(result, name, h5):
             + _hdf(h5, f"{group}/length", (m,)) + "</Attribute>")
     shared = (f'<xi:include xpointer="xpointer(//Grid[@Name=\'{grid}-0\']/*[self::Topology or '
               'self::Geometry or self::Attribute[@Name=\'length\']])"/>')
-    lines = [f'<Grid Name={quoteattr(grid)} GridType="Collection" CollectionType="Temporal">']
-    for i, t in enumerate(times):
-        lines.append(f'<Grid Name={quoteattr(f"{grid}-{i}")} GridType="Uniform">'
-                     + (mesh if i == 0 else shared) + f'<Time Value="{float(t)!r}"/>')
-        for key in INTERFACE_FIELDS:
-            lines.append(f'<Attribute Name="{key}" AttributeType="Scalar" Center="Cell">'
-                         + _slab(h5, f"{group}/{key}", i, (times.size, m)) + "</Attribute>")
-        lines.append("</Grid>")
-    return lines + ["</Grid>"]
+    return _temporal(grid, times, mesh, shared, lambda i: [
+        f'<Attribute Name="{key}" AttributeType="Scalar" Center="Cell">'
+        + _slab(h5, f"{group}/{key}", i, (times.size, m)) + "</Attribute>"
+        for key in INTERFACE_FIELDS])
 
 
 def to_xdmf(result, path=None):
