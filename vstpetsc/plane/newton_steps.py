@@ -4,9 +4,10 @@ a pair closed and sticking), A_c factored once:
 
 - "dense" (default up to DENSE_PAIRS pairs): Newton on the pairs'
   coordinates (vstpetsc.plane.pair_newton) with their coupling
-  S = E^T A_c^-1 E (4m x 4m, rank 0's), formed once by 4m solves with
-  A_c (``coupling``), the columns A_c^-1 E kept (each rank its rows, up
-  to COLUMNS_BYTES): its iterations need no solve with A_c.
+  S = E^T A_c^-1 E (4m x 4m, rank 0's), each pair's four columns formed
+  by four solves with A_c the first time it opens or slides
+  (``Coupling``), the columns A_c^-1 E kept (each rank its rows, up to
+  COLUMNS_BYTES): its iterations need no solve with A_c.
 - "krylov": Newton on the slab's unknowns (vstpetsc.plane.contact_newton)
   whose steps are GMRES on J applied matrix-free (A_c's product and the
   blocks), preconditioned by A_c's solver (FGMRES when that is itself
@@ -48,27 +49,41 @@ def _pair_vector(pairs, j):
     return pairs.to_dofs(f)
 
 
-def coupling(A_c, inner, pairs, dofs, comm):
-    """(S = E^T A_c^-1 E (4m, 4m) on rank 0 (None elsewhere), the columns
-    A_c^-1 E (4m, this rank's rows) when they fit in COLUMNS_BYTES a rank,
-    else None): 4m solves with A_c, once."""
-    u, v = A_c.createVecLeft(), A_c.createVecLeft()
-    rank0 = comm.getRank() == 0
-    n = 4 * pairs.m
-    S = np.zeros((n, n)) if rank0 else None
-    local = u.getLocalSize()
-    keep = comm.tompi4py().allreduce(local * n * 8 <= COLUMNS_BYTES, op=_land())
-    Z = np.empty((n, local)) if keep else None          # rows: contiguous picks
-    for j in range(n):
-        v.zeroEntries()
-        dofs.add(_pair_vector(pairs, j) if rank0 else None, v)
-        inner.solve(v, u)
-        if Z is not None:
-            Z[j] = u.getArray(readonly=True)
-        z = dofs.gather(u)
-        if rank0:
-            S[:, j] = pairs.coordinates(z).ravel()
-    return S, Z
+class Coupling:
+    """The pairs' coupling S = E^T A_c^-1 E (4m x 4m, rank 0's) and the
+    columns A_c^-1 E (each rank its rows, when they fit in COLUMNS_BYTES
+    a rank; else ``Z`` is None), formed a pair at a time (4 solves with
+    A_c) the first time a pair leaves the closed, sticking state: a pair
+    that never does costs nothing (collective)."""
+
+    def __init__(self, A_c, inner, pairs, dofs, comm):
+        self.inner, self.pairs, self.dofs, self.comm = inner, pairs, dofs, comm
+        self.u, self.v = A_c.createVecLeft(), A_c.createVecLeft()
+        self.rank0 = comm.getRank() == 0
+        n = 4 * pairs.m
+        self.S = np.zeros((n, n)) if self.rank0 else None
+        local = self.u.getLocalSize()
+        keep = comm.tompi4py().allreduce(local * n * 8 <= COLUMNS_BYTES, op=_land())
+        self.Z = np.zeros((n, local)) if keep else None     # rows: contiguous picks
+        self.known = np.zeros(pairs.m, dtype=bool)
+        self.solves = 0
+
+    def ensure(self, wanted):
+        """Form the columns of the pairs ``wanted`` (rank 0's list; every
+        rank calls) not formed yet."""
+        wanted = self.comm.tompi4py().bcast(wanted, root=0)
+        new = [int(p) for p in np.unique(wanted) if not self.known[p]]
+        for j in (4 * p + c for p in new for c in range(4)):
+            self.v.zeroEntries()
+            self.dofs.add(_pair_vector(self.pairs, j) if self.rank0 else None, self.v)
+            self.inner.solve(self.v, self.u)
+            if self.Z is not None:
+                self.Z[j] = self.u.getArray(readonly=True)
+            z = self.dofs.gather(self.u)
+            if self.rank0:
+                self.S[:, j] = self.pairs.coordinates(z).ravel()
+        self.known[new] = True
+        self.solves += 4 * len(new)
 
 
 class _Jacobian:

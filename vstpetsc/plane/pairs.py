@@ -164,11 +164,16 @@ class PairSet:
     def excess(self):
         """f - W_c y (m, 4) at the last evaluation: the pairs' terms beyond
         A_c's springs (a constant while a pair is closed and sticking)."""
-        out, y = self.out, self.y
-        f = np.concatenate([out[:, pk.F_N], out[:, pk.F_T]], axis=1)
+        y = self.y
+        f = self.forces()
         f[:, 0:2] -= self.spring_n[:, None] * (y[:, 0:2] @ self.hk.T)
         f[:, 2:4] -= self.spring_t[:, None] * (y[:, 2:4] @ self.hk.T)
         return f
+
+    def forces(self):
+        """f (m, 4) at the last evaluation: the pairs' normal and
+        tangential terms."""
+        return np.concatenate([self.out[:, pk.F_N], self.out[:, pk.F_T]], axis=1)
 
     def excess_tangent(self):
         """d(f - W_c y)/dy (m, 4, 4) at the last evaluation (friction's
