@@ -91,6 +91,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/plane_solvers.py 10000 100000 --courant 1,4
 	$(PY) bench/plane_slab.py
 	$(PY) bench/plane_parallel.py
+	$(PY) bench/plane_interfaces.py
 	$(PY) bench/blas_threads.py
 	$(PY) bench/sweep_speed.py
 	$(PY) bench/pile_speed.py
