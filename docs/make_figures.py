@@ -480,13 +480,15 @@ def _gravity_dam(f, result):
     mu = result.case().plane.interfaces[0].friction
     record = np.loadtxt(bundled.companions("gravity-dam")[0], delimiter=",", skiprows=1)
     rigid = rigid_block_slip(record[:, 0], record[:, 1], 0.5 * record[:, 2], mu, 9.81)[-1]
-    slip, length = g.slip[-1], g.length[:]
-    mean = float(slip @ length / length.sum())
+    slip, nodes, u = g.slip[-1], g.nodes[:], result.field.u[-1]
+    moved = np.einsum("mc,mc->m", g.tangent[:], u[nodes[:, 1]] - u[nodes[:, 0]])
     _interface_figure(result, "gravity-dam", "gravity-dam: the base's slip and opening, "
                       "the crest's spectrum, the energy")
-    return (f"permanent slip of the base {1e3 * slip.min():.1f} to {1e3 * slip.max():.1f} mm "
-            f"pair by pair, {1e3 * mean:.1f} mm on average (a rigid block on the same records: "
-            f"{1e3 * rigid:.1f} mm); heel open up to {1e3 * g.gap[:].max():.2f} mm; friction "
+    return (f"the dam moved {1e3 * moved.min():.1f} to {1e3 * moved.max():.1f} mm along its "
+            f"base relative to the rock (a rigid block on the same records: {1e3 * rigid:.1f} "
+            f"mm); slip recorded in contact {1e3 * slip.min():.1f} to {1e3 * slip.max():.1f} mm "
+            f"pair by pair (the heel was open as the base slid); heel open up to "
+            f"{1e3 * g.gap[:].max():.2f} mm; friction "
             f"dissipated {f['energy/friction'][-1] / 1e3:.1f} kJ per m\n\n"
             "![gravity-dam interfaces](figures/gravity-dam-interfaces.png)")
 

@@ -684,27 +684,33 @@ def interface_laws_hold(r, name, mu):
 
 
 def test_gravity_dam_slides_rocks_and_compares_with_a_rigid_block(results):
-    """gravity-dam: the base slides (every pair the same way) and its heel
-    lifts; the laws hold pair by pair; the balance closes; the permanent
-    slip (length-weighted mean over the base) against a rigid block's on
-    the same outcrop records (tests/references/rigid_block.py, Newmark's
-    block with the vertical acceleration): the elastic dam rocks and its
-    base shear is not a rigid block's, so only the order is asserted."""
+    """gravity-dam: the base slides and its heel lifts; the laws hold pair
+    by pair; the balance closes.  The dam's displacement relative to its
+    foundation along the base, t . (u_second - u_first), is one number
+    across the base (it slides as one), while the slip recorded pair by
+    pair (in contact only) is smaller where the heel was open as it slid.
+    Against a rigid block's on the same outcrop records
+    (tests/references/rigid_block.py, Newmark's block with the vertical
+    acceleration): the elastic dam rocks and its base shear is not a
+    rigid block's, so only the order is asserted."""
     from references.rigid_block import rigid_block_slip
 
     r = results["gravity-dam"]
     mu = r.case().plane.interfaces[0].friction
     g = interface_laws_hold(r, "contact", mu)
-    slip, length = g.slip[-1], g.length[:]
-    assert np.all(slip > 0) and (g.gap[:] > 0).any()
+    nodes, u = g.nodes[:], r.field.u[-1]
+    moved = np.einsum("mc,mc->m", g.tangent[:], u[nodes[:, 1]] - u[nodes[:, 0]])
+    slip = g.slip[-1]
+    assert np.ptp(moved) <= 0.05 * moved.mean() and slip.max() > 0.9 * moved.mean()
+    assert (g.gap[:] > 0).any()
     record = np.loadtxt(bundled.companions("gravity-dam")[0], delimiter=",", skiprows=1)
     rigid = rigid_block_slip(record[:, 0], record[:, 1], 0.5 * record[:, 2], mu, 9.81)[-1]
-    mean = float(slip @ length / length.sum())
     e = r.energy
-    print("gravity-dam: permanent slip", mean, "rigid block", rigid, "ratio", mean / rigid,
+    print("gravity-dam: displaced", moved.min(), moved.max(), "slip", slip.min(), slip.max(),
+          "rigid block", rigid, "ratio", moved.mean() / rigid,
           "numerical", e["numerical"][-1] / e["external"][-1])
-    # measured: 0.0110 m against the rigid block's 0.0261 m (0.42)
-    assert 0.2 <= mean / rigid <= 1.5
+    # measured: 13.2-13.5 mm (slip 0.3-13.8 mm) against the rigid block's 26.1 mm (0.51)
+    assert 0.3 <= moved.mean() / rigid <= 1.2
     assert e["friction"][-1] > 0
     assert 0 <= e["numerical"][-1] <= 1e-4 * e["external"][-1]
 
