@@ -17,7 +17,11 @@ interleaved in one process.
 `vstpetsc run` on one rank and under `mpirun -n 2`, interleaved,
 REPEATS_2 times each.
 
-    .venv/bin/python bench/plane_interfaces.py [--quick] [--no-ranks]
+(3) A strip sliding on a joint of 64, 256 and 1024 node pairs (every
+pair sliding): ms per slab of Newton on the pairs and, up to 256 pairs,
+of GMRES steps: how each grows with the pairs.
+
+    .venv/bin/python bench/plane_interfaces.py [--quick] [--no-pairs] [--no-ranks]
 """
 
 import io
@@ -40,6 +44,7 @@ from vstpetsc.plane.solver import PlaneSolver
 H_CELL, REPEATS, BATCH, WARM = 1.0, 5, 10, 60
 GENTLE = 0.1            # the shaking that leaves every pair closed and sticking
 END_2, REPEATS_2 = 1.2, 3
+PAIR_COUNTS, KRYLOV_PAIRS = (64, 256, 1024), 256
 SHAKE = [[0.0, 0.0], [0.1, 2.0], [0.2, -2.0], [0.3, 2.0], [0.4, -2.0], [0.5, 2.0],
          [0.6, -2.0], [0.7, 2.0], [0.8, -2.0], [0.9, 2.0], [1.0, 0.0], [10.0, 0.0]]
 
@@ -136,6 +141,40 @@ def per_slab(h, repeats):
     return out
 
 
+def strip_case(pairs):
+    """A strip of blocks (cells of 0.25 m, four rows above a driven row)
+    on a frictional joint of ``pairs`` node pairs, its base accelerated at
+    0.5 g: every pair slides from the first slabs."""
+    width = 0.25 * (pairs - 1)
+    drive = [[0.0, 0.0], [0.2, 0.981], [10.0, 0.981]]
+    return vstpetsc.Case.from_dict({
+        "time": {"dt": 1e-3, "end": 1.0},
+        "mesh": {"rectangle": {"x": [0.0, width], "y": [-0.25, 1.0], "nx": pairs - 1, "ny": 5,
+                               "joints": {"base": 0.0}}},
+        "region": [{"name": "domain", "E": 1e10, "nu": 0.2, "rho": 2000.0}],
+        "boundary": [{"name": "bottom", "type": "velocity", "value": {"x": drive, "y": 0.0}}],
+        "interface": [{"name": "base", "friction": 0.2}],
+        "gravity": {"g": -9.81, "initial": "static"}})
+
+
+def many_pairs(counts, repeats):
+    """ms per slab of the sliding strip for each number of pairs, Newton on
+    the pairs (dense) and with GMRES steps (krylov, up to KRYLOV_PAIRS)."""
+    out = {}
+    for m in counts:
+        kinds = [("dense", ())] + ([("krylov", (("vst_contact_steps", "krylov"),))]
+                                   if m <= KRYLOV_PAIRS else [])
+        for kind, options in kinds:
+            part = build(strip_case(m), options)
+            times = [batch(part) for _ in range(repeats)]
+            out[f"{m} {kind}"] = {"min_ms": 1e3 * min(times),
+                                  "median_ms": 1e3 * statistics.median(times),
+                                  "columns_s": part[4], "cells": part[3].ncells}
+            print(f"| {m} | {kind} | {part[3].ncells} | {1e3 * min(times):.1f} / "
+                  f"{1e3 * statistics.median(times):.1f} | {part[4]:.2f} |", flush=True)
+    return out
+
+
 def ranks(repeats):
     folder = tempfile.mkdtemp()
     case = vstpetsc.Case.from_toml(bundled.path("rockfill-dam")).with_value("time.end", END_2)
@@ -172,6 +211,9 @@ def main(argv):
               f"{r['median_ms'] / welded['median_ms']:.2f} | "
               f"{100 * r['changed_pairs']:.0f} % open or sliding | {r['columns_s']:.2f} |",
               flush=True)
+    if "--no-pairs" not in argv:
+        print("a sliding strip: pairs | steps | cells | ms per slab (min / median) | columns s")
+        many_pairs(PAIR_COUNTS[:2] if quick else PAIR_COUNTS, 2 if quick else 3)
     if "--no-ranks" not in argv:
         two = ranks(1 if quick else REPEATS_2)
         one, pair = two["1 rank"], two["2 ranks"]
