@@ -34,7 +34,7 @@ def kind(pairs):
     return chosen
 # the columns A_c^-1 E (every rank its rows) are kept up to this many bytes a
 # rank: a step then needs one solve with A_c, not two
-COLUMNS_BYTES = 256 * 2 ** 20
+COLUMNS_BYTES = 2 ** 30
 
 
 def _land():

@@ -164,7 +164,9 @@ class PairNewton(HeldWork):
             return step
         rows = (4 * K[:, None] + np.arange(4)).ravel()
         SK = self.coupling.S[:, rows]                              # (4m, 4k)
-        SD = np.einsum("rkb,kbc->rkc", SK.reshape(-1, K.size, 4), D[K]).reshape(-1, rows.size)
+        # S_K times the blocks of D: a batched product (4m x 4 by 4 x 4, one per pair)
+        SD = np.matmul(SK.reshape(-1, K.size, 4).transpose(1, 0, 2), D[K])
+        SD = SD.transpose(1, 0, 2).reshape(-1, rows.size)
         dK = np.linalg.solve(np.eye(rows.size) + SD[rows], -r.ravel()[rows])
         flat = -r.ravel() - SD @ dK
         flat[rows] = dK
