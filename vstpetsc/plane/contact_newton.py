@@ -13,11 +13,12 @@ blocks).  Pairs that stay closed and sticking add nothing to J - A_c: a
 slab where every pair does is linear and its step is one solve with A_c
 (no Krylov iteration), the welded mesh's cost.  Only pairs that open or
 slide make GMRES iterate, each iteration one more solve with A_c: its
-work grows with the pairs that change, not as the square of all pairs
-(the 1-D reduced Newton's dense coupling).
+work grows with the distinct ways the pairs change (bench/README.md,
+"Many pairs": it wins on long uniform interfaces, loses on a dam's).
 
-Steps are halved while the residual's norm does not fall (as the 1-D
-reduced Newton).  Converged when |R| <= RTOL (|r| + |A_c X|) (2-norms).
+Full steps for the first FULL_STEPS iterations, then halved while the
+residual's norm does not fall.  Converged when |R| <= RTOL (|r| +
+|A_c X|) (2-norms).
 
 The pairs' kernels run on rank 0: their unknowns are gathered there by
 one PETSc scatter and their terms added back by its reverse (on one rank,

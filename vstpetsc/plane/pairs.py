@@ -16,10 +16,11 @@ on the first node, -n, -t on the second).
 A closed, sticking pair's terms are linear in y: W y + constant with
 W = k dt^2 HK, the slab algebra of a spring k (the power penalty's and
 the stick spring's, formulation.md), so the run factors A_c = A + dt^2
-HK (x) S once (S: spring_matrix of the springs ``closed_springs``) and
-Newton sees only the difference f - W_c y (``difference``).
+HK (x) S once (S: the springs of ``spring_n``, ``spring_t``, assembled
+by PlaneModel.closed_springs) and Newton sees only e = f - W_c y
+(``excess``, its tangent ``excess_tangent``).
 
-Default stiffnesses per unit length (docs/plane-strain.md): the 1-D
+Default stiffnesses per unit length (docs/interfaces.md): the 1-D
 rules (laws.penalty.default_penalty, laws.friction.BETA) with the
 adjacent cells' lambda + 2 mu (normal) or mu (tangential) for E and
 their size across the curve for h, the stiffest edge's."""
