@@ -16,7 +16,7 @@ the 1-D reduced Newton's equations (vstpetsc.reduced_newton), solved the
 same way: Newton matrix I + S e'(y), whose columns are the identity for
 every pair closed and sticking (e' = 0), so a step is a dense solve over
 the pairs that open or slide only; converged when max |r| <= RTOL (max
-|y_1| + max |y| + max |S (e - e_0)|).  Its iterations need no solve with
+|y_1| + max |y| + max |S (e - e_0)| + max |e_0| / (k dt^2 / 8)).  Its iterations need no solve with
 A_c: a slab takes one solve with e predicted at the state's velocity
 (e_0; exact when every pair stays closed and sticking: the welded mesh's
 cost) and, if e changed, the correction A_c^-1 E (e - e_0) from the kept
@@ -74,6 +74,7 @@ class PairNewton(HeldWork):
         self.inner.solve(self.rhs, x)
         z = self.dofs.gather(x)
         self.y1 = self.pairs.coordinates(z) if self.rank0 else None
+        self.offset_scale = self._offset_scale() if self.rank0 else 0.0
         its, e = self._newton(k)
         change = None
         if self.rank0:
@@ -129,8 +130,19 @@ class PairNewton(HeldWork):
         se = (self.coupling.S[:, cols] @ w[cols]).reshape(-1, 4)
         r = y - self.y1 + se
         tol = RTOL * (np.abs(self.y1).max(initial=0.0) + np.abs(y).max(initial=0.0)
-                      + np.abs(se).max(initial=0.0))
+                      + np.abs(se).max(initial=0.0) + self.offset_scale)
         return r, np.abs(r).max(initial=0.0), tol, e
+
+    def _offset_scale(self):
+        """max |e0| over each pair's own spring (k dt^2 / 8): the rates the
+        slab's offsets stand for, the scale of y where y itself is about
+        0 (a body at rest under its weight)."""
+        pairs = self.pairs
+        k = np.concatenate([np.repeat(pairs.spring_n[:, None], 2, axis=1),
+                            np.repeat(pairs.spring_t[:, None], 2, axis=1)], axis=1)
+        k = k * pairs.hk[0, 0]
+        return float(np.abs(np.divide(self.e0, k, out=np.zeros_like(self.e0), where=k > 0))
+                     .max(initial=0.0))
 
     def _newton(self, k):
         """(iterations, e at the solution y on rank 0), the kernels' last

@@ -228,12 +228,57 @@ class PairSet:
 
     def start(self, u, static=False):
         """The state of t = 0 from the displacements u (nn, 2): the gaps,
-        and for a static start the stick springs' stretch."""
+        and for a static start the stick springs' stretch (at a sliding
+        pair the limit mu N / k_t, none at an open one)."""
         du = u[self.nodes[:, 1]] - u[self.nodes[:, 0]]
         self.gap = np.einsum("mc,mc->m", self.normal, du)
-        self.stretch = np.einsum("mc,mc->m", self.tangent, du) * (self.kt > 0) if static \
-            else np.zeros(self.m)
+        self.stretch = np.zeros(self.m)
+        if static:
+            closed, sticking, sign = self.static_state(u)
+            along = np.einsum("mc,mc->m", self.tangent, du)
+            limit = self.mu * self.spring_n * np.maximum(-self.gap, 0.0) / \
+                np.where(self.kt > 0, self.kt, 1.0)
+            self.stretch = np.where(sticking, along, sign * limit) * closed * (self.kt > 0)
         self.slip = np.zeros(self.m)
+
+    def static_guess(self):
+        """(closed, sticking, sign) of every pair: closed and sticking."""
+        return np.ones(self.m, bool), np.ones(self.m, bool), np.zeros(self.m)
+
+    def static_state(self, u):
+        """(closed, sticking, sign of the tangential displacement) of the
+        pairs under the displacements u (nn, 2), with the static laws:
+        closed where the gap is negative, sticking where the stick spring's
+        force is within mu N (N = the normal spring's force)."""
+        du = u[self.nodes[:, 1]] - u[self.nodes[:, 0]]
+        gap = np.einsum("mc,mc->m", self.normal, du)
+        along = np.einsum("mc,mc->m", self.tangent, du)
+        closed = gap < 0
+        limit = self.mu * self.spring_n * np.maximum(-gap, 0.0)
+        sticking = closed & ((self.kt == 0) | (self.kt * np.abs(along) <= limit))
+        sticking |= self.kt == 0            # no friction: nothing along t, nothing to slide
+        return closed, sticking, np.sign(along) * ~sticking
+
+    def static_matrix(self, state, nnodes):
+        """The pairs' static stiffness (2 nnodes square CSR, the numbering as
+        read) for their states: normal springs where closed, stick springs
+        where sticking, and where sliding the friction mu N along t against
+        the tangential displacement, N = k_n (-g) (not symmetric)."""
+        from types import SimpleNamespace
+
+        from vstpetsc.plane.interfaces import spring_matrix
+
+        closed, sticking, sign = state
+        kt = np.where(sticking & closed, self.spring_t, 0.0)
+        nn = nnodes
+        pairs = SimpleNamespace(nodes=self.nodes, normal=self.normal, tangent=self.tangent,
+                                length=np.ones(self.m))
+        springs = spring_matrix(pairs, self.spring_n * closed, kt, nn)
+        # sliding: force -sign mu k_n (n . (u2 - u1)) t on the second node (its negative
+        # on the first): K blocks -/+ sign mu k_n t n^T
+        c = np.where(closed & ~sticking, sign * self.mu * self.spring_n, 0.0)
+        block = c[:, None, None] * np.einsum("ma,mb->mab", self.tangent, self.normal)
+        return springs + _pair_blocks(self.nodes, block, nn)
 
 
 def split_all(specs, mesh, materials, dt):
@@ -299,3 +344,21 @@ class InterfaceRecord:
     def final_attrs(self):
         slip = self.pairs.slip[self.info.pairs]
         return {"permanent_slip": float(slip[np.argmax(np.abs(slip))]) if slip.size else 0.0}
+
+
+def _pair_blocks(nodes, block, nnodes):
+    """The (2 nn, 2 nn) CSR of the pairs' 2 x 2 blocks B (first, second):
+    the second side's rows get -B (u2 - u1), the first's +B (u2 - u1)."""
+    import scipy.sparse as sp
+
+    first, second = nodes[:, 0], nodes[:, 1]
+    rows, cols, vals = [], [], []
+    for p, q, sign in ((second, second, -1.0), (second, first, 1.0),
+                       (first, second, 1.0), (first, first, -1.0)):
+        dp = 2 * p[:, None] + np.arange(2)
+        dq = 2 * q[:, None] + np.arange(2)
+        rows.append(np.repeat(dp, 2, axis=1).ravel())
+        cols.append(np.tile(dq, (1, 2)).ravel())
+        vals.append(sign * block.ravel())
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(2 * nnodes, 2 * nnodes))

@@ -2,8 +2,8 @@
 initial = "static", as in 1-D: docs/loads.md): K u = f_g with every held
 dof and every node of an absorbing curve held, solved once; the run then
 starts from rest in u with the absorbing nodes' reactions K u - f_g kept
-as constant forces (interfaces closed and sticking: K with their springs,
-vstpetsc.plane.pairs), so that (u, 0) is an exact equilibrium of the slab
+as constant forces (interfaces: each pair closed or open, sticking or
+sliding at mu N, settled by repeated solves, vstpetsc.plane.pairs), so that (u, 0) is an exact equilibrium of the slab
 equations (with v = 0 their right-hand side is dt/2 (f - K u) on both
 time rows, zero everywhere).
 
@@ -17,10 +17,12 @@ from dataclasses import dataclass
 import numpy as np
 from petsc4py import PETSc
 
+from vstpetsc.errors import InputError
 from vstpetsc.history import History
 from vstpetsc.plane.assembly import identity_rows, petsc_matrix
 
 PREFIX = "vst_static_"
+SETTLE_ROUNDS = 30
 
 
 @dataclass
@@ -41,16 +43,23 @@ def _original_dofs(model, positions):
 
 
 def _solve_on_rank0(model, held, g0):
-    """u of every node (mesh as read), solved on rank 0 (None elsewhere)."""
+    """u of every node (mesh as read), solved on rank 0 (None elsewhere);
+    with interfaces, their pairs' states settled (``_settled``)."""
     from vstpetsc.plane.loads import unit_gravity
     from vstpetsc.plane.model import spatial_matrices
 
     M, _, K = spatial_matrices(model.mesh, model.cell_materials)
-    springs = model.closed_springs(whole=True)     # interfaces closed and sticking
-    if springs is not None:
-        K = K + springs
     f = unit_gravity(M) * g0
-    A = petsc_matrix(identity_rows(K, held, 0), PETSc.COMM_SELF)
+    rhs = f.copy()
+    rhs[held] = 0.0
+    if model.pairs is None:
+        return _linear_solve(K, held, rhs)
+    return _settled(model.pairs, K, held, rhs)
+
+
+def _linear_solve(K, held, rhs):
+    """u with K u = rhs (held rows identities), by PETSc's LU on rank 0."""
+    A = petsc_matrix(identity_rows(K.tocsr(), held, 0), PETSc.COMM_SELF)
     ksp = PETSc.KSP().create(comm=PETSc.COMM_SELF)
     ksp.setOptionsPrefix(PREFIX)
     ksp.setOperators(A)
@@ -59,11 +68,27 @@ def _solve_on_rank0(model, held, g0):
     ksp.getPC().setFactorOrdering("nd")
     ksp.setFromOptions()
     x, b = A.createVecs()
-    rhs = f.copy()
-    rhs[held] = 0.0
     b.setArray(rhs)
     ksp.solve(b, x)
     return x.getArray(readonly=True).copy()
+
+
+def _settled(pairs, K, held, rhs):
+    """u under the interfaces' static laws: each pair closed (its normal
+    spring) or open (nothing), sticking (its stick spring) or sliding
+    (the force mu N against its tangential displacement, N from its
+    normal spring): states guessed closed and sticking, then taken from
+    the solution until they repeat (at most SETTLE_ROUNDS solves)."""
+    state = pairs.static_guess()
+    for _ in range(SETTLE_ROUNDS):
+        u = _linear_solve(K + pairs.static_matrix(state, K.shape[0] // 2), held, rhs)
+        new = pairs.static_state(u.reshape(-1, 2))
+        if all(np.array_equal(a, b) for a, b in zip(new, state)):
+            return u
+        state = new
+    raise InputError("gravity.initial: the interfaces' static states did not settle in "
+                     f"{SETTLE_ROUNDS} solves (pairs keep switching between sticking, "
+                     "sliding and opening)")
 
 
 def static_state(model, gravity_pattern):
@@ -83,7 +108,7 @@ def static_state(model, gravity_pattern):
     u_global[dof] = u.reshape(-1, 2)[local.original].ravel()
     _, _, K = model.matrices()
     springs = model.closed_springs()
-    if springs is not None:
+    if springs is not None:             # (absorbing nodes are not a pair's in practice)
         K = K + springs
     reaction = np.zeros(K.shape[0])
     free_absorbing = np.setdiff1d(bounds.absorbing_dofs(), bounds.held_dofs()[0])
