@@ -179,15 +179,24 @@ def _pairs(mesh, name, edges, doubled, new):
 def spring_matrix(pairs, normal_stiffness, tangent_stiffness, nnodes):
     """The stiffness (2 nn, 2 nn CSR) of linear springs joining each pair's
     two nodes, per unit length along the normal and the tangent (one value
-    or one per pair; times the pair's tributary length): a closed, sticking interface's linear part
-    (the pairs' penalty and stick springs), to be added to K, so that such
-    an interface costs no more per slab than the welded mesh."""
+    or one per pair; times the pair's tributary length): a closed,
+    sticking interface's linear part (the pairs' penalty and stick
+    springs), to be added to K, so that such an interface costs no more
+    per slab than the welded mesh."""
     n, t, length = pairs.normal, pairs.tangent, pairs.length
     kn, kt = (np.reshape(np.asarray(k, float), (-1, 1, 1)) for k in (normal_stiffness,
                                                                    tangent_stiffness))
     block = length[:, None, None] * (kn * np.einsum("ma,mb->mab", n, n)
                                      + kt * np.einsum("ma,mb->mab", t, t))
-    first, second = pairs.nodes[:, 0], pairs.nodes[:, 1]
+    return pair_matrix(pairs.nodes, block, nnodes)
+
+
+def pair_matrix(nodes, block, nnodes):
+    """The (2 nn, 2 nn) CSR that gives each pair (first, second) of
+    ``nodes`` the forces B (u_first - u_second) on its first node and
+    B (u_second - u_first) on its second: 2 x 2 blocks ``block`` (m, 2, 2)
+    B on the diagonal, -B across (a spring's pattern)."""
+    first, second = nodes[:, 0], nodes[:, 1]
     rows, cols, vals = [], [], []
     for p, q, sign in ((first, first, 1.0), (second, second, 1.0),
                        (first, second, -1.0), (second, first, -1.0)):

@@ -266,7 +266,7 @@ class PairSet:
         the tangential displacement, N = k_n (-g) (not symmetric)."""
         from types import SimpleNamespace
 
-        from vstpetsc.plane.interfaces import spring_matrix
+        from vstpetsc.plane.interfaces import pair_matrix, spring_matrix
 
         closed, sticking, sign = state
         kt = np.where(sticking & closed, self.spring_t, 0.0)
@@ -278,7 +278,8 @@ class PairSet:
         # on the first): K blocks -/+ sign mu k_n t n^T
         c = np.where(closed & ~sticking, sign * self.mu * self.spring_n, 0.0)
         block = c[:, None, None] * np.einsum("ma,mb->mab", self.tangent, self.normal)
-        return springs + _pair_blocks(self.nodes, block, nn)
+        # (the force on the second node is -B (u2 - u1): a spring's pattern of -B)
+        return springs - pair_matrix(self.nodes, block, nn)
 
 
 def split_all(specs, mesh, materials, dt):
@@ -344,21 +345,3 @@ class InterfaceRecord:
     def final_attrs(self):
         slip = self.pairs.slip[self.info.pairs]
         return {"permanent_slip": float(slip[np.argmax(np.abs(slip))]) if slip.size else 0.0}
-
-
-def _pair_blocks(nodes, block, nnodes):
-    """The (2 nn, 2 nn) CSR of the pairs' 2 x 2 blocks B (first, second):
-    the second side's rows get -B (u2 - u1), the first's +B (u2 - u1)."""
-    import scipy.sparse as sp
-
-    first, second = nodes[:, 0], nodes[:, 1]
-    rows, cols, vals = [], [], []
-    for p, q, sign in ((second, second, -1.0), (second, first, 1.0),
-                       (first, second, 1.0), (first, first, -1.0)):
-        dp = 2 * p[:, None] + np.arange(2)
-        dq = 2 * q[:, None] + np.arange(2)
-        rows.append(np.repeat(dp, 2, axis=1).ravel())
-        cols.append(np.tile(dq, (1, 2)).ravel())
-        vals.append(sign * block.ravel())
-    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                         shape=(2 * nnodes, 2 * nnodes))
