@@ -34,7 +34,6 @@ RTOL = 1e-12
 MAX_IT = 60
 FULL_STEPS = 12
 HALVINGS = 20
-LINEAR = 1e-12          # |W - W_c| below this times |W_c|: the pair is linear (rounding)
 
 
 class PairDofs:
@@ -115,7 +114,7 @@ class ContactNewton(HeldWork):
         self.steps = KrylovSteps(self)
         self.blocks = self.values = self.z = None
         self.linear = True
-        self.iterations = self.krylov = 0
+        self.krylov = 0
 
     def _residual(self, b, x, R):
         """R = A_c x - b + E (f - W_c y) at x (the kernels evaluated
@@ -129,10 +128,8 @@ class ContactNewton(HeldWork):
         if z is not None:
             self.pairs.evaluate(z)
             values, *blocks = self.pairs.difference()
-            scale = max(float(np.abs(self.pairs.spring_n).max(initial=0.0)),
-                        float(np.abs(self.pairs.spring_t).max(initial=0.0))) \
-                * float(np.abs(self.pairs.hk).max())
-            linear = max(float(np.abs(b).max(initial=0.0)) for b in blocks) <= LINEAR * scale
+            linear = max(float(np.abs(b).max(initial=0.0)) for b in blocks) <= \
+                self.pairs.rounding
             self.blocks = blocks
         self.dofs.add(values, R)
         self.values, self.z = values, z

@@ -183,12 +183,19 @@ def spring_matrix(pairs, normal_stiffness, tangent_stiffness, nnodes):
     sticking interface's linear part (the pairs' penalty and stick
     springs), to be added to K, so that such an interface costs no more
     per slab than the welded mesh."""
-    n, t, length = pairs.normal, pairs.tangent, pairs.length
-    kn, kt = (np.reshape(np.asarray(k, float), (-1, 1, 1)) for k in (normal_stiffness,
-                                                                   tangent_stiffness))
-    block = length[:, None, None] * (kn * np.einsum("ma,mb->mab", n, n)
-                                     + kt * np.einsum("ma,mb->mab", t, t))
-    return pair_matrix(pairs.nodes, block, nnodes)
+    length = np.asarray(pairs.length, float)
+    return pair_matrix(pairs.nodes, spring_blocks(pairs.normal, pairs.tangent,
+                                                  np.multiply(normal_stiffness, length),
+                                                  np.multiply(tangent_stiffness, length)),
+                       nnodes)
+
+
+def spring_blocks(normal, tangent, kn, kt):
+    """Each pair's 2 x 2 spring block kn n n^T + kt t t^T (kn, kt one value
+    or one per pair)."""
+    kn, kt = (np.reshape(np.asarray(k, float), (-1, 1, 1)) for k in (kn, kt))
+    return kn * np.einsum("ma,mb->mab", normal, normal) + \
+        kt * np.einsum("ma,mb->mab", tangent, tangent)
 
 
 def pair_matrix(nodes, block, nnodes):

@@ -217,15 +217,8 @@ class PlaneModel:
         static solve)."""
         if self.pairs is None:
             return None
-        from types import SimpleNamespace
-
-        from vstpetsc.plane.interfaces import spring_matrix
-
         p = self.pairs
-        nodes = p.nodes if whole else p.global_nodes
-        springs = spring_matrix(SimpleNamespace(nodes=nodes, normal=p.normal, tangent=p.tangent,
-                                                length=np.ones(p.m)),
-                                p.spring_n, p.spring_t, self.nnodes)
+        springs = p.springs(p.nodes if whole else p.global_nodes, self.nnodes)
         return springs if whole else \
             springs[2 * self.first:2 * (self.first + self.owned_original.size)]
 

@@ -39,7 +39,6 @@ RTOL = 1e-12
 MAX_IT = 100
 FULL_STEPS = 12
 HALVINGS = 12
-ZERO = 1e-12            # a block below this times the springs' is a pair's rounding
 UNCHANGED = 1e-14       # a change of e below this times |e| is rounding
 
 
@@ -55,9 +54,9 @@ class PairNewton(HeldWork):
         self.rhs, self.u = A_c.createVecLeft(), A_c.createVecLeft()
         dofs.bind(self.rhs)
         self.coupling = Coupling(A_c, inner, pairs, dofs, comm)
-        scale = max(float(np.abs(pairs.spring_n).max(initial=0.0)),
-                    float(np.abs(pairs.spring_t).max(initial=0.0)))
-        self.zero = ZERO * scale * float(np.abs(pairs.hk).max())
+        # each pair coordinate's own spring (k dt^2 / 8), for the offsets' scale
+        own = np.repeat(np.column_stack([pairs.spring_n, pairs.kt]), 2, axis=1)
+        self.own = own * pairs.hk[0, 0]
         self.values = self.z = None
         self.bcast = comm.tompi4py().bcast
 
@@ -137,10 +136,7 @@ class PairNewton(HeldWork):
         """max |e0| over each pair's own spring (k dt^2 / 8): the rates the
         slab's offsets stand for, the scale of y where y itself is about
         0 (a body at rest under its weight)."""
-        pairs = self.pairs
-        k = np.concatenate([np.repeat(pairs.spring_n[:, None], 2, axis=1),
-                            np.repeat(pairs.spring_t[:, None], 2, axis=1)], axis=1)
-        k = k * pairs.hk[0, 0]
+        k = self.own
         return float(np.abs(np.divide(self.e0, k, out=np.zeros_like(self.e0), where=k > 0))
                      .max(initial=0.0))
 
@@ -167,7 +163,8 @@ class PairNewton(HeldWork):
         K = None
         if self.rank0:
             D = self.pairs.excess_tangent()
-            K = np.flatnonzero(np.abs(D).reshape(D.shape[0], -1).max(axis=1) > self.zero)
+            K = np.flatnonzero(np.abs(D).reshape(D.shape[0], -1).max(axis=1) >
+                               self.pairs.rounding)
         self.coupling.ensure(K)
         if not self.rank0:
             return None

@@ -36,6 +36,7 @@ from vstpetsc.results.plane_layout import PAIR_SERIES as SERIES
 from vstpetsc.slab import HK
 
 CROSS_STEP = 1e-7
+ROUNDING = 1e-12
 
 
 @dataclass
@@ -102,15 +103,39 @@ class PairSet:
         self.mu = per(lambda i: i.friction or 0.0)
         # the closed, sticking springs A_c holds (the seed's: its slab-mean stiffness)
         self.spring_n = per(lambda i: i.penalty if i.power else 0.5 * i.penalty * dt) * length
-        self.spring_t = self.kt.copy()
         self.kernels = [pk.PairKernels(self.w[i.pairs], self.kt[i.pairs], self.mu[i.pairs], dt,
                                        i.power) for i in infos]
         self.hk = dt * dt * HK
+        # a Jacobian block below this is a closed, sticking pair's rounding
+        self.rounding = ROUNDING * float(max(np.abs(self.spring_n).max(initial=0.0),
+                                             np.abs(self.kt).max(initial=0.0))) \
+            * float(np.abs(self.hk).max())
         self.gap, self.stretch, self.slip = np.zeros(self.m), np.zeros(self.m), np.zeros(self.m)
         self.normal_force, self.shear_force = np.zeros(self.m), np.zeros(self.m)
         self.out = np.zeros((self.m, pk.OUT))
         self.y = np.zeros((self.m, 4))
         self.cross = np.zeros((self.m, 2, 2))
+
+    @property
+    def spring_t(self):
+        """A_c's stick springs: the pairs' tangential stiffness."""
+        return self.kt
+
+    def springs(self, nodes, nnodes, closed=True, sticking=True):
+        """The springs (2 nnodes square CSR) joining the pairs' ``nodes``
+        (as read, or global): normal where ``closed``, tangential where
+        also ``sticking`` (masks, or True for all)."""
+        from vstpetsc.plane.interfaces import pair_matrix, spring_blocks
+
+        kt = np.where(np.logical_and(sticking, closed), self.kt, 0.0)
+        return pair_matrix(nodes, spring_blocks(self.normal, self.tangent,
+                                                self.spring_n * closed, kt), nnodes)
+
+    def relative(self, u):
+        """(gap, tangential displacement) (m,) of each pair under the
+        displacements u (nn, 2): n and t of u_second - u_first."""
+        du = u[self.nodes[:, 1]] - u[self.nodes[:, 0]]
+        return np.einsum("mc,mc->m", self.normal, du), np.einsum("mc,mc->m", self.tangent, du)
 
     def coordinates(self, z):
         """y (m, 4) from the pairs' slab unknowns z (m, 8)."""
@@ -230,56 +255,49 @@ class PairSet:
         """The state of t = 0 from the displacements u (nn, 2): the gaps,
         and for a static start the stick springs' stretch (at a sliding
         pair the limit mu N / k_t, none at an open one)."""
-        du = u[self.nodes[:, 1]] - u[self.nodes[:, 0]]
-        self.gap = np.einsum("mc,mc->m", self.normal, du)
+        self.gap, along = self.relative(u)
         self.stretch = np.zeros(self.m)
         if static:
-            closed, sticking, sign = self.static_state(u)
-            along = np.einsum("mc,mc->m", self.tangent, du)
+            closed, sticking, sign = static_state(self, u)
             limit = self.mu * self.spring_n * np.maximum(-self.gap, 0.0) / \
                 np.where(self.kt > 0, self.kt, 1.0)
             self.stretch = np.where(sticking, along, sign * limit) * closed * (self.kt > 0)
         self.slip = np.zeros(self.m)
 
-    def static_guess(self):
-        """(closed, sticking, sign) of every pair: closed and sticking."""
-        return np.ones(self.m, bool), np.ones(self.m, bool), np.zeros(self.m)
 
-    def static_state(self, u):
-        """(closed, sticking, sign of the tangential displacement) of the
-        pairs under the displacements u (nn, 2), with the static laws:
-        closed where the gap is negative, sticking where the stick spring's
-        force is within mu N (N = the normal spring's force)."""
-        du = u[self.nodes[:, 1]] - u[self.nodes[:, 0]]
-        gap = np.einsum("mc,mc->m", self.normal, du)
-        along = np.einsum("mc,mc->m", self.tangent, du)
-        closed = gap < 0
-        limit = self.mu * self.spring_n * np.maximum(-gap, 0.0)
-        sticking = closed & ((self.kt == 0) | (self.kt * np.abs(along) <= limit))
-        sticking |= self.kt == 0            # no friction: nothing along t, nothing to slide
-        return closed, sticking, np.sign(along) * ~sticking
 
-    def static_matrix(self, state, nnodes):
-        """The pairs' static stiffness (2 nnodes square CSR, the numbering as
-        read) for their states: normal springs where closed, stick springs
-        where sticking, and where sliding the friction mu N along t against
-        the tangential displacement, N = k_n (-g) (not symmetric)."""
-        from types import SimpleNamespace
+def static_guess(pairs):
+    """(closed, sticking, sign) of every pair: closed and sticking."""
+    return np.ones(pairs.m, bool), np.ones(pairs.m, bool), np.zeros(pairs.m)
 
-        from vstpetsc.plane.interfaces import pair_matrix, spring_matrix
 
-        closed, sticking, sign = state
-        kt = np.where(sticking & closed, self.spring_t, 0.0)
-        nn = nnodes
-        pairs = SimpleNamespace(nodes=self.nodes, normal=self.normal, tangent=self.tangent,
-                                length=np.ones(self.m))
-        springs = spring_matrix(pairs, self.spring_n * closed, kt, nn)
-        # sliding: force -sign mu k_n (n . (u2 - u1)) t on the second node (its negative
-        # on the first): K blocks -/+ sign mu k_n t n^T
-        c = np.where(closed & ~sticking, sign * self.mu * self.spring_n, 0.0)
-        block = c[:, None, None] * np.einsum("ma,mb->mab", self.tangent, self.normal)
-        # (the force on the second node is -B (u2 - u1): a spring's pattern of -B)
-        return springs - pair_matrix(self.nodes, block, nn)
+def static_state(pairs, u):
+    """(closed, sticking, sign of the tangential displacement) of the
+    pairs under the displacements u (nn, 2), with the static laws:
+    closed where the gap is negative, sticking where the stick spring's
+    force is within mu N (N = the normal spring's force)."""
+    gap, along = pairs.relative(u)
+    closed = gap < 0
+    limit = pairs.mu * pairs.spring_n * np.maximum(-gap, 0.0)
+    # no friction (k_t = 0): nothing along t, nothing to slide
+    sticking = (closed & (pairs.kt * np.abs(along) <= limit)) | (pairs.kt == 0)
+    return closed, sticking, np.sign(along) * ~sticking
+
+
+def static_matrix(pairs, state, nnodes):
+    """The pairs' static stiffness (2 nnodes square CSR, the numbering as
+    read) for their states: normal springs where closed, stick springs
+    where sticking, and where sliding the friction mu N along t against
+    the tangential displacement, N = k_n (-g) (not symmetric)."""
+    from vstpetsc.plane.interfaces import pair_matrix
+
+    closed, sticking, sign = state
+    # sliding: force -sign mu k_n (n . (u2 - u1)) t on the second node (its negative
+    # on the first), -B (u2 - u1) with B = sign mu k_n t n^T: a spring's pattern of -B
+    c = np.where(closed & ~sticking, sign * pairs.mu * pairs.spring_n, 0.0)
+    block = c[:, None, None] * np.einsum("ma,mb->mab", pairs.tangent, pairs.normal)
+    return pairs.springs(pairs.nodes, nnodes, closed, sticking) - \
+        pair_matrix(pairs.nodes, block, nnodes)
 
 
 def split_all(specs, mesh, materials, dt):

@@ -79,10 +79,12 @@ def _settled(pairs, K, held, rhs):
     (the force mu N against its tangential displacement, N from its
     normal spring): states guessed closed and sticking, then taken from
     the solution until they repeat (at most SETTLE_ROUNDS solves)."""
-    state = pairs.static_guess()
+    from vstpetsc.plane.pairs import static_guess, static_matrix, static_state
+
+    state = static_guess(pairs)
     for _ in range(SETTLE_ROUNDS):
-        u = _linear_solve(K + pairs.static_matrix(state, K.shape[0] // 2), held, rhs)
-        new = pairs.static_state(u.reshape(-1, 2))
+        u = _linear_solve(K + static_matrix(pairs, state, K.shape[0] // 2), held, rhs)
+        new = static_state(pairs, u.reshape(-1, 2))
         if all(np.array_equal(a, b) for a, b in zip(new, state)):
             return u
         state = new
