@@ -129,10 +129,11 @@ class StaticProblem:
         free = np.flatnonzero(self.u_free)
         for _ in range(MAX_NEWTON):
             r, J, scale = self._rest_residual(u)
+            Jf = J[free][:, free].tocsc()
+            # also without a static load: u = 0 is then one of many states
+            self._check_held(Jf, free, u)
             if np.abs(r[free]).max(initial=0.0) <= RESIDUAL_TOL * scale:
                 return u
-            Jf = J[free][:, free].tocsc()
-            self._check_held(Jf, free, u)
             u[free] -= _lu(Jf).solve(r[free])
         self._not_converged(u, np.abs(r[free]).max() / scale)
 

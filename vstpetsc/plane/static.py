@@ -53,8 +53,32 @@ def _solve_on_rank0(model, held, g0):
     rhs = f.copy()
     rhs[held] = 0.0
     if model.pairs is None:
+        _refuse_free(model.mesh, held)
         return _linear_solve(K, held, rhs)
-    return _settled(model.pairs, K, held, rhs)
+    return _settled(model, K, held, rhs)
+
+
+def _refuse_free(mesh, held, pairs=None, state=None):
+    """InputError naming a part of the mesh that the held dofs and the
+    pairs' springs in ``state`` (closed: normal; sticking with friction:
+    tangential) leave free to move as a rigid body (vstpetsc.plane.rigidity):
+    K u = f would have no single solution."""
+    from vstpetsc.plane.rigidity import free_part
+
+    nodes, directions = np.zeros((0, 2), int), np.zeros((0, 2))
+    if pairs is not None:
+        closed, sticking, _ = state
+        along = closed & sticking & (pairs.kt > 0)
+        nodes = np.concatenate([pairs.nodes[closed], pairs.nodes[along]])
+        directions = np.concatenate([pairs.normal[closed], pairs.tangent[along]])
+    words = free_part(mesh, held, nodes, directions)
+    if words is not None:
+        because = "" if pairs is None else \
+            " (interfaces hold a part where their pairs are closed, and along them where " \
+            f"they also stick; {_pair_states(state)})"
+        raise InputError(f"gravity.initial: \"static\" needs every part of the mesh held in "
+                         f"place by a fixed, velocity or absorbing curve or an interface to a "
+                         f"held part{because}; {words}")
 
 
 def _linear_solve(K, held, rhs):
@@ -73,7 +97,16 @@ def _linear_solve(K, held, rhs):
     return x.getArray(readonly=True).copy()
 
 
-def _settled(pairs, K, held, rhs):
+def _pair_states(state):
+    """Words for the pairs' static states."""
+    closed, sticking, _ = state
+    if closed.all() and sticking.all():
+        return "every pair taken closed and sticking"
+    return (f"settled under the static load: {int((~closed).sum())} of {closed.size} pairs "
+            f"open, {int((closed & ~sticking).sum())} sliding")
+
+
+def _settled(model, K, held, rhs):
     """u under the interfaces' static laws: each pair closed (its normal
     spring) or open (nothing), sticking (its stick spring) or sliding
     (the force mu N against its tangential displacement, N from its
@@ -81,8 +114,10 @@ def _settled(pairs, K, held, rhs):
     the solution until they repeat (at most SETTLE_ROUNDS solves)."""
     from vstpetsc.plane.pairs import static_guess, static_matrix, static_state
 
+    pairs = model.pairs
     state = static_guess(pairs)
     for _ in range(SETTLE_ROUNDS):
+        _refuse_free(model.mesh, held, pairs, state)
         u = _linear_solve(K + static_matrix(pairs, state, K.shape[0] // 2), held, rhs)
         new = static_state(pairs, u.reshape(-1, 2))
         if all(np.array_equal(a, b) for a, b in zip(new, state)):
@@ -100,9 +135,16 @@ def static_state(model, gravity_pattern):
     g0 = float(model.case.gravity.g(np.array([0.0]))[0])
     held_here = np.union1d(bounds.held_dofs()[0], bounds.absorbing_dofs())
     held = comm.tompi4py().gather(_original_dofs(model, held_here), root=0)
-    u = _solve_on_rank0(model, np.unique(np.concatenate(held)), g0) \
-        if comm.getRank() == 0 else None
-    u = comm.tompi4py().bcast(u, root=0) if comm.getSize() > 1 else u
+    u = error = None
+    if comm.getRank() == 0:
+        try:
+            u = _solve_on_rank0(model, np.unique(np.concatenate(held)), g0)
+        except InputError as exc:       # every rank raises it
+            error = str(exc)
+    if comm.getSize() > 1:
+        u, error = comm.tompi4py().bcast((u, error), root=0)
+    if error is not None:
+        raise InputError(error)
     # the reactions from this rank's rows of K, u in the global numbering
     local = model.local
     u_global = np.zeros(2 * model.nnodes)
