@@ -17,7 +17,7 @@ import pytest
 import scipy.sparse as sp
 
 from vstpetsc.plane import assembly
-from vstpetsc.plane.interfaces import split
+from vstpetsc.plane.interfaces import split, split_along
 from vstpetsc.plane.rockfill_mesh import REGIONS, rockfill_mesh
 
 P = dict(height=40.0, crest=8.0, upstream=2.0, downstream=1.8, core_crest=4.0,
@@ -167,6 +167,29 @@ def test_three_splits_in_sequence(rock):
     for name, edges in s3.curves.items():
         assert ((left_cell(s3, edges) >= 0) | (left_cell(s3, edges[:, ::-1]) >= 0)).all(), name
     tied(rock, s3, (contact, upstream, downstream))
+
+
+def test_the_run_splits_the_three_at_once(rock):
+    """What a run does (interfaces.split_along, issue 44): at the core's
+    base corners the contact pairs the foundation with the core and with
+    the shell (half an edge each), and the core's face pairs the two; the
+    same nodes as in sequence, and the same mesh in any order."""
+    names = ["contact", "core_upstream", "core_downstream"]
+    s, (contact, upstream, downstream) = split_along(rock, names)
+    assert [len(p.nodes) for p in (contact, upstream, downstream)] == [83, 21, 21]
+    assert s.nnodes == rock.nnodes + 81 + 21 + 21
+    for x, face in ((-CORE_BASE, upstream), (CORE_BASE, downstream)):
+        corner = at(s, x, 0.0)
+        shell = "upstream_shell" if x < 0 else "downstream_shell"
+        f, c, sh = (node_in(corner, r) for r in ("foundation", "core", shell))
+        assert sorted(pair_at(contact, corner)) == sorted([[f, c], [f, sh]])
+        assert len(pair_at(face, corner)) == 1 and set(pair_at(face, corner)[0]) == {c, sh}
+        halves = contact.length[np.isin(contact.nodes, [c, sh]).any(axis=1) &
+                                np.isin(contact.nodes, [f]).any(axis=1)]
+        assert np.allclose(halves, halves[0])
+    other, _ = split_along(rock, names[::-1])
+    assert np.array_equal(other.cells, s.cells)
+    tied(rock, s, (contact, upstream, downstream))
 
 
 def tied(m, s, pairs):

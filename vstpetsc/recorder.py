@@ -3,6 +3,7 @@ with the restart state, closed with a status) and the restart from it.
 Every rank calls these methods; rank 0's verdicts reach every rank."""
 
 import math
+import os
 import time
 
 import numpy as np
@@ -267,7 +268,10 @@ def _check_continues(f, path, case):
                          "in more than time.end (and output.path)")
     changed = _changed_inputs(f, case)
     if changed:
-        raise InputError(f"--restart: the history file {changed[0]} changed since {path} "
+        mesh = case.plane.mesh.file if case.plane is not None else None
+        kind = "mesh file" if mesh and os.path.samefile(case.resolve(changed[0]), mesh) \
+            else "history file"
+        raise InputError(f"--restart: the {kind} {changed[0]} changed since {path} "
                          "was started; continuing would mix two inputs (start a new run)")
     every = int(f.attrs.get("every", 1))
     if every != case.every:

@@ -37,6 +37,7 @@ class Boundaries:
         self.position[model.owned_local] = np.arange(model.owned_local.size)
         self.held = {}                    # owned dof position -> History or None
         self.patterns = []                # (pattern over owned dofs, History)
+        self.constant = []                # the patterns of loads constant in time, at t = 0
         self.blocks = []                  # (owned node positions, (n, 2, 2) dashpots)
         for spec in specs:
             getattr(self, f"_{spec.type}")(spec, self.mesh.curves.get(spec.name,
@@ -65,6 +66,8 @@ class Boundaries:
             pattern = np.zeros(2 * self.nown)
             pattern[2 * self.position[self._mine()] + AXES[comp]] = share[self._mine()]
             self.patterns.append((pattern, history))
+            if history.is_constant and not history.is_zero:
+                self.constant.append(pattern * float(history(np.zeros(1))[0]))
 
     def _mine(self):
         return np.flatnonzero(self.position >= 0)
@@ -103,6 +106,11 @@ class Boundaries:
         rows = np.repeat(dof, 2, axis=1).ravel()
         cols = np.tile(dof, (1, 2)).ravel() + 2 * first
         return sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(2 * self.nown, 2 * size))
+
+    def constant_loads(self):
+        """The owned dofs' forces of the tractions constant in time (what a
+        static start carries beside the weight, as in 1-D)."""
+        return np.sum(self.constant, axis=0) if self.constant else np.zeros(2 * self.nown)
 
     def held_dofs(self):
         """(owned dof positions (sorted), their Histories or None for 0)."""

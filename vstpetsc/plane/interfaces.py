@@ -18,11 +18,13 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from vstpetsc.plane.boundaries import edge_frames
 from vstpetsc.plane.curves import edge_cells
 from vstpetsc.plane.mesh import PlaneMesh
+
+LEVEL = 1e-9        # ends at one height, against the curve's extent
 
 
 @dataclass
@@ -93,43 +95,147 @@ def _corner(key, order, cells, nodes, n):
 
 
 def split(mesh, name):
-    """(the mesh split along curve ``name``, its NodePairs); ValueError for
-    a curve the mesh has not or one on the mesh's boundary."""
-    if name not in mesh.curves:
-        raise ValueError(f"the mesh has no curve {name!r}")
-    edges = mesh.curves[name]
-    _inner_check(mesh, name, edges)
+    """(the mesh split along curve ``name``, its NodePairs) (split_along)."""
+    split_mesh, (pairs,) = split_along(mesh, [name])
+    return split_mesh, pairs
+
+
+def split_along(mesh, names):
+    """(the mesh split along the curves ``names`` at once, a NodePairs per
+    curve); ValueError for a curve the mesh has not, one on its boundary,
+    or an edge in two of them.
+
+    Around each node of the curves, the cells fall into groups joined
+    across edges on none of them; each group has its copy of the node
+    (one group: a crack's tip, the node stays single).  The group on the
+    first side of the node's edge of lowest key (edge_keys) keeps its
+    number, the others take new ones in the order of (node, group).  A
+    pair joins the copies on the two sides of a curve's edges at a node:
+    one per side of a crossing or a junction, each with its edges'
+    normal and half their length.  So a node where curves meet or cross
+    is split the same whatever the order of ``names``."""
+    if not names:
+        return mesh, []
+    edges, curve = _curve_edges(mesh, names)
     corner_cell, corner_node, labels = corner_sides(mesh, edges)
-    second = _second_side_groups(mesh, edges, corner_cell, corner_node, labels)
-    moved = second[labels]                                 # corners taking the new node
-    doubled = np.unique(corner_node[moved])
-    new = np.full(mesh.nnodes, -1)
-    new[doubled] = mesh.nnodes + np.arange(doubled.size)
+    key = corner_cell.astype(np.int64) * max(mesh.nnodes, 1) + corner_node
+    order = np.argsort(key)
+    group = lambda cells, nodes: labels[_corner(key, order, cells, nodes, max(mesh.nnodes, 1))]
+    first, second = _left_cells(mesh, edges[:, ::-1]), _left_cells(mesh, edges)
+    label_node = _label_nodes(mesh, edges, corner_node, labels, group(first[:, None], edges))
     cells = mesh.cells.copy()
     slot = np.argmax(mesh.cells[corner_cell] == corner_node[:, None], axis=1)
-    cells[corner_cell[moved], slot[moved]] = new[corner_node[moved]]
-    coordinates = np.concatenate([mesh.coordinates, mesh.coordinates[doubled]])
+    cells[corner_cell, slot] = label_node[labels]
+    coordinates = np.concatenate([mesh.coordinates, mesh.coordinates[
+        _original_of(mesh, label_node, corner_node, labels)]])
+    copies = lambda holder, nodes: label_node[group(holder, nodes)]
     split_mesh = PlaneMesh(coordinates, cells, mesh.region, mesh.region_names,
-                           _renumbered_curves(mesh, cells, name, new))
-    return split_mesh, _pairs(mesh, name, edges, doubled, new)
+                           _renumbered_curves(mesh, cells, {n: (edges[curve == i], first[curve == i])
+                                                            for i, n in enumerate(names)}))
+    pairs = []
+    for i, name in enumerate(names):
+        mine = curve == i
+        ends = [(copies(first[mine], edges[mine, k]), copies(second[mine], edges[mine, k]))
+                for k in range(2)]
+        pairs.append(_pairs(mesh, name, edges[mine], ends))
+    return split_mesh, pairs
 
 
-def _second_side_groups(mesh, edges, corner_cell, corner_node, labels):
-    """Whether each group is on the second side: the groups of the corners
-    of the cells left of the curve's edges, where a node has two groups."""
-    n = max(mesh.nnodes, 1)
-    left = _left_cells(mesh, edges)
-    key = corner_cell.astype(np.int64) * n + corner_node
-    order = np.argsort(key)
-    second = np.zeros(labels.max() + 1, dtype=bool)
-    for p in (edges[:, 0], edges[:, 1]):
-        second[labels[_corner(key, order, left, p, n)]] = True
-    # a node whose corners are all in one group (a tip) is not doubled
-    groups = np.unique(np.column_stack([corner_node, labels]), axis=0)
-    count = np.bincount(groups[:, 0], minlength=mesh.nnodes)
-    single = count[groups[:, 0]] < 2
-    second[groups[single, 1]] = False
-    return second
+def _curve_edges(mesh, names):
+    """(every edge of the curves (m, 2), the index of its curve (m,))."""
+    for name in names:
+        if name not in mesh.curves:
+            raise ValueError(f"the mesh has no curve {name!r}")
+        _inner_check(mesh, name, mesh.curves[name])
+    parts = [oriented(mesh.coordinates, mesh.curves[name]) for name in names]
+    edges = np.concatenate(parts) if parts else np.zeros((0, 2), dtype=int)
+    curve = np.repeat(np.arange(len(parts)), [len(e) for e in parts])
+    keys = mesh.edge_keys(edges[:, 0], edges[:, 1])
+    unique, first, counts = np.unique(keys, return_index=True, return_counts=True)
+    if (counts > 1).any():
+        k = first[np.argmax(counts > 1)]
+        other = curve[(keys == keys[k]) & (np.arange(keys.size) != k)][0]
+        x, y = mesh.coordinates[edges[k]].mean(axis=0)
+        raise ValueError(f"curves {names[curve[k]]!r} and {names[other]!r} share the edge at "
+                         f"({x:g}, {y:g}): an edge is one interface's")
+    return edges, curve
+
+
+def oriented(x, edges):
+    """A curve's edges (m, 2) turned to run one way along each of its
+    pieces: from its lower end to its upper (from left to right where the
+    ends are level: within LEVEL of the curve's extent), a closed piece
+    counter-clockwise.  The direction a mesh file's edges come in is the
+    reader's (DMPlex takes each edge from the first cell that holds it),
+    so it tells nothing; the second side is then the left of this one."""
+    nodes, local = np.unique(edges, return_inverse=True)
+    local = local.reshape(edges.shape)
+    graph = sp.coo_matrix((np.ones(len(edges)), (local[:, 0], local[:, 1])),
+                          shape=(nodes.size, nodes.size)).tocsr()
+    count, piece = connected_components(graph, directed=False)
+    degree = np.bincount(local.ravel(), minlength=nodes.size)
+    extent = float(np.ptp(x[nodes], axis=0).max(initial=0.0))
+    out = local.copy()
+    for k in range(count):                      # a curve's pieces: one, or a few
+        members = np.flatnonzero(piece == k)
+        ends = members[degree[members] == 1]
+        mine = piece[local[:, 0]] == k
+        out[mine] = _piece_oriented(x[nodes], local[mine], ends if ends.size else members,
+                                    closed=not ends.size, level=LEVEL * extent)
+    return nodes[out]
+
+
+def _piece_oriented(x, edges, candidates, closed, level):
+    """One connected piece's edges run away from its start (the lowest of
+    ``candidates``; a closed piece opened at its start and then turned
+    counter-clockwise)."""
+    y = x[candidates, 1]
+    low = candidates[y <= y.min() + level]
+    start = low[np.argmin(x[low, 0])]
+    n = x.shape[0]
+    keep = np.ones(len(edges), dtype=bool)
+    if closed:                                  # open the loop at one edge of its start
+        keep[np.flatnonzero((edges == start).any(axis=1))[0]] = False
+    graph = sp.coo_matrix((np.ones(keep.sum()), (edges[keep, 0], edges[keep, 1])),
+                          shape=(n, n)).tocsr()
+    _, before = breadth_first_order(graph, start, directed=False)
+    forward = before[edges[:, 1]] == edges[:, 0]
+    backward = before[edges[:, 0]] == edges[:, 1]
+    out = np.where((forward | ~(forward | backward))[:, None], edges, edges[:, ::-1])
+    if closed:
+        cut = np.flatnonzero(~keep)[0]          # the loop's last edge returns to the start
+        out[cut] = [edges[cut][edges[cut] != start][0], start]
+        a, b = x[out[:, 0]], x[out[:, 1]]
+        if np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]) < 0:      # clockwise
+            out = out[:, ::-1]
+    return out
+
+
+def _label_nodes(mesh, edges, corner_node, labels, first_side):
+    """The node number of each group: the original for the group on the
+    first side of the lowest edge at its node (``first_side`` (m, 2): the
+    group of each edge end on its first side), new numbers for the others
+    in the order of (node, group)."""
+    ends = edges.T.ravel()                          # the edges' first ends, then their second
+    keeper_of = np.full(mesh.nnodes, -1)
+    # by node, then by the edge's own key: not by the curves' order
+    at_end = np.lexsort((np.tile(mesh.edge_keys(edges[:, 0], edges[:, 1]), 2), ends))
+    ends, side = ends[at_end], first_side.T.ravel()[at_end]
+    lead = np.r_[True, ends[1:] != ends[:-1]]
+    keeper_of[ends[lead]] = side[lead]
+    groups = np.unique(np.column_stack([corner_node, labels]), axis=0)   # by node, then group
+    keeps = keeper_of[groups[:, 0]] == groups[:, 1]
+    label_node = np.empty(labels.max(initial=-1) + 1, dtype=int)
+    label_node[groups[keeps, 1]] = groups[keeps, 0]
+    label_node[groups[~keeps, 1]] = mesh.nnodes + np.arange(int((~keeps).sum()))
+    return label_node
+
+
+def _original_of(mesh, label_node, corner_node, labels):
+    """The original node of each new node (numbered from nnodes on)."""
+    out = np.zeros(label_node.max(initial=mesh.nnodes - 1) + 1, dtype=int)
+    out[label_node[labels]] = corner_node
+    return out[mesh.nnodes:]
 
 
 def _left_cells(mesh, edges):
@@ -144,36 +250,38 @@ def _left_cells(mesh, edges):
     return cells[order[np.minimum(at, order.size - 1)]]
 
 
-def _renumbered_curves(mesh, cells, name, new):
-    """Every curve's edges in the split mesh: the interface's own on the
-    first side (old nodes); another curve's edge touching a doubled node
-    takes the nodes of the cell that holds it."""
+def _renumbered_curves(mesh, cells, interfaces):
+    """Every curve's edges in the split mesh: an interface's (``interfaces``
+    {name: (its edges, turned; their first sides' cells)}) on its first
+    side; another curve's edge takes the nodes of the cell that holds it."""
     out = {}
     for curve, edges in mesh.curves.items():
-        if curve == name or not (new[edges] >= 0).any():
-            out[curve] = edges
-            continue
-        holder = cells[edge_cells(mesh, edges)]
-        pick = lambda p: np.where((holder == new[p][:, None]).any(axis=1) & (new[p] >= 0),
-                                  new[p], p)
-        out[curve] = np.column_stack([pick(edges[:, 0]), pick(edges[:, 1])])
+        edges, holder = interfaces.get(curve) or (edges, edge_cells(mesh, edges))
+        slot = lambda p: np.argmax(mesh.cells[holder] == p[:, None], axis=1)
+        out[curve] = np.column_stack([cells[holder, slot(edges[:, k])] for k in range(2)])
     return out
 
 
-def _pairs(mesh, name, edges, doubled, new):
-    """The NodePairs: per doubled node, the length-weighted mean of its
-    curve edges' left normals, and half their lengths."""
+def _pairs(mesh, name, edges, ends):
+    """The NodePairs of a curve: per (first copy, second copy) of a node
+    (``ends``: those of the edges' first ends, then of their second), the
+    length-weighted mean of its edges' left normals, and half their
+    lengths; none where both copies are one node (a tip)."""
     length, _, t = edge_frames(mesh, edges)
     left = np.column_stack([-t[:, 1], t[:, 0]]) * length[:, None]
-    normal = np.zeros((mesh.nnodes, 2))
-    share = np.zeros(mesh.nnodes)
-    for p in (edges[:, 0], edges[:, 1]):
-        np.add.at(normal, p, left)
-        np.add.at(share, p, 0.5 * length)
-    normal = normal[doubled] / np.linalg.norm(normal[doubled], axis=1)[:, None]
+    a = np.concatenate([ends[0][0], ends[1][0]])
+    b = np.concatenate([ends[0][1], ends[1][1]])
+    split_here = a != b
+    node = np.concatenate([edges[:, 0], edges[:, 1]])[split_here]
+    a, b = a[split_here], b[split_here]
+    keys, at = np.unique(np.column_stack([node, a, b]), axis=0, return_inverse=True)
+    at = at.ravel()
+    normal, share = np.zeros((len(keys), 2)), np.zeros(len(keys))
+    np.add.at(normal, at, np.concatenate([left, left])[split_here])
+    np.add.at(share, at, np.concatenate([0.5 * length, 0.5 * length])[split_here])
+    normal = normal / np.linalg.norm(normal, axis=1)[:, None]
     tangent = np.column_stack([normal[:, 1], -normal[:, 0]])
-    return NodePairs(name, np.column_stack([doubled, new[doubled]]), normal, tangent,
-                     share[doubled])
+    return NodePairs(name, keys[:, 1:].copy(), normal, tangent, share)
 
 
 def spring_matrix(pairs, normal_stiffness, tangent_stiffness, nnodes):

@@ -9,14 +9,32 @@ owns the vertices [start, stop).  ``owned_original`` maps them to the
 numbering of the mesh as read, in which the result file, the initial
 state and the gauges are given."""
 
+import os
+
 import numpy as np
 
 from vstpetsc.errors import InputError
 from vstpetsc.plane import assembly, curves, distributed, elements
 
+OVERLAP = 0.1       # an interface's starting overlap against its cells' size
+
 
 def read_mesh(spec):
-    """The PlaneMesh of a [mesh] table (InputError naming the key)."""
+    """The PlaneMesh of a [mesh] table, checked (vstpetsc.plane.mesh_checks;
+    InputError naming the key)."""
+    from vstpetsc.plane import mesh_checks
+
+    where = f"mesh.file: {os.path.basename(spec.file)}" if spec.kind == "file" else \
+        f"mesh.{spec.kind}"
+    mesh = _built_mesh(spec)
+    try:
+        mesh_checks.check(mesh, cells=spec.kind != "file")      # the reader checked them
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    return mesh
+
+
+def _built_mesh(spec):
     from vstpetsc.plane import dam_mesh, dmplex, mesh
 
     if spec.kind == "rectangle":
@@ -30,6 +48,8 @@ def read_mesh(spec):
             raise InputError(f"mesh.dam: {exc}") from None
     try:
         return dmplex.read_gmsh(spec.file)
+    except ValueError as exc:       # ours: what the file holds that we cannot take
+        raise InputError(f"mesh.file: {os.path.basename(spec.file)}: {exc}") from None
     except Exception as exc:        # PETSc's reader raises its own errors
         reason = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
         raise InputError(f"mesh.file: cannot read {spec.file} as a Gmsh mesh: {reason}") from None
@@ -135,6 +155,7 @@ class PlaneModel:
                 mesh = read_mesh(case.plane.mesh)
                 check_names(case, mesh)
                 mesh, split = split_interfaces(case, mesh)
+                check_overlap(case, mesh, split[0], *split[1][:2])
             except InputError as exc:
                 error = str(exc)
         error = comm.tompi4py().bcast(error, root=0)
@@ -236,14 +257,54 @@ class PlaneModel:
         the last region's value (collective: every rank gets them)."""
         u = v = None
         if self.comm.getRank() == 0:
-            mesh = self.mesh
-            u, v = np.zeros((mesh.nnodes, 2)), np.zeros((mesh.nnodes, 2))
-            for i, r in enumerate(self._regions(mesh.region_names)):
-                nodes = mesh.cells[mesh.region == i]
-                nodes = nodes[nodes >= 0]
-                u[nodes], v[nodes] = r.u0, r.v0
+            u, v, _ = region_state(self.mesh, self._regions(self.mesh.region_names))
         u, v = self.comm.tompi4py().bcast((u, v), root=0)
         return u, v
+
+
+def region_state(mesh, regions):
+    """(u, v, the region each node takes them from) (nn, 2), (nn, 2), (nn,)
+    of ``mesh`` from its ``regions``' u0 and v0: a node shared by regions
+    takes the last region's value."""
+    u, v = np.zeros((mesh.nnodes, 2)), np.zeros((mesh.nnodes, 2))
+    source = np.zeros(mesh.nnodes, dtype=int)
+    for i, r in enumerate(regions):
+        nodes = mesh.cells[mesh.region == i]
+        nodes = nodes[nodes >= 0]
+        u[nodes], v[nodes], source[nodes] = r.u0, r.v0, i
+    return u, v, source
+
+
+def check_overlap(case, mesh, infos, nodes, normal):
+    """InputError where the regions' u0 press an interface's two sides
+    into each other deeper than OVERLAP of the cells beside it: the
+    penalty stands for a compliance far smaller than the cells, and such
+    a start is the mesh overlapping itself, thrown apart with the
+    penalty's energy.  A shallower overlap is a joint that starts
+    pressed (its penalty's energy is part of the initial energy)."""
+    regions = [{r.name: r for r in case.plane.regions}[n] for n in mesh.region_names]
+    u, _, source = region_state(mesh, regions)
+    du = u[nodes[:, 1]] - u[nodes[:, 0]]
+    gap = np.einsum("mc,mc->m", normal, du)
+    size = np.full(mesh.nnodes, np.inf)
+    corners = mesh.cells >= 0
+    np.minimum.at(size, mesh.cells[corners],
+                  np.broadcast_to(cell_sizes(mesh)[:, None], mesh.cells.shape)[corners])
+    deep = -gap > OVERLAP * np.minimum(size[nodes[:, 0]], size[nodes[:, 1]])
+    if not deep.any():
+        return
+    k = int(np.argmin(np.where(deep, gap, np.inf)))
+    info = next(i for i in infos if i.pairs.start <= k < i.pairs.stop)
+    sides = [regions[source[n]] for n in nodes[k]]
+    moved = max(sides, key=lambda r: np.abs(r.u0).max())          # the key to look at
+    index = case.plane.regions.index(moved)
+    against = "" if sides[0] is sides[1] else \
+        f" against region {[r for r in sides if r is not moved][0].name!r}"
+    x, y = mesh.coordinates[nodes[k, 0]]
+    raise InputError(f"region[{index}] ({moved.name}).u0: starts interface {info.name!r} "
+                     f"overlapping{against} by {-gap[k]:.6g} at ({x:.6g}, {y:.6g}), more "
+                     f"than {OVERLAP:g} of the cells beside it ({int(deep.sum())} pairs): a "
+                     "joint may start pressed, not interpenetrating")
 
 
 def spatial_matrices(mesh, mat, local=None):

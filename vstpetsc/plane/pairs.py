@@ -301,39 +301,39 @@ def static_matrix(pairs, state, nnodes):
 
 
 def split_all(specs, mesh, materials, dt):
-    """(the mesh split along every interface, [InterfaceInfo], the pairs'
+    """(the mesh split along every interface at once (interfaces.split_along:
+    the same whatever the tables' order), [InterfaceInfo], the pairs'
     (nodes, normal, tangent, length)) on rank 0; ValueError naming the
-    interface for a curve the mesh has not or one on its boundary."""
-    from vstpetsc.plane.interfaces import split
+    interface for a curve the mesh has not, one on its boundary, or an
+    edge two interfaces share."""
+    from vstpetsc.plane.interfaces import split_along
 
-    infos, parts, start = [], [], 0
     for i, spec in enumerate(specs):
-        where = f"interface[{i}] ({spec.name}).name"
         if spec.name not in mesh.curves:
-            raise ValueError(f"{where}: the mesh has no curve {spec.name!r} "
-                             f"(curves: {', '.join(mesh.curves) or 'none'})")
+            raise ValueError(f"interface[{i}] ({spec.name}).name: the mesh has no curve "
+                             f"{spec.name!r} (curves: {', '.join(mesh.curves) or 'none'})")
+    names = [spec.name for spec in specs]
+    try:
+        split_mesh, parts = split_along(mesh, names)
+    except ValueError as exc:
+        named = next((i for i, n in enumerate(names) if repr(n) in str(exc)), 0)
+        raise ValueError(f"interface[{named}] ({names[named]}).name: {exc}") from None
+    infos, start = [], 0
+    for spec, pairs in zip(specs, parts):
         edges = mesh.curves[spec.name]
-        try:
-            split_mesh, pairs = split(mesh, spec.name)
-        except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
         penalty, shear = default_stiffnesses(mesh, materials, edges, spec.formulation, dt) \
             if len(edges) else (1.0, 1.0)
-        mesh = split_mesh
         if spec.penalty is not None:
             penalty = spec.penalty
         m = pairs.length.size
         infos.append(InterfaceInfo(spec.name, slice(start, start + m), spec.formulation,
                                    penalty, shear if spec.friction is not None else 0.0,
                                    spec.friction, spec.penalty is not None))
-        parts.append(pairs)
         start += m
     join = lambda key, shape: np.concatenate([getattr(p, key) for p in parts]) if parts \
         else np.zeros(shape)
-    return mesh, infos, (join("nodes", (0, 2)).astype(int), join("normal", (0, 2)),
-                         join("tangent", (0, 2)), join("length", (0,)))
-
-
+    return split_mesh, infos, (join("nodes", (0, 2)).astype(int), join("normal", (0, 2)),
+                               join("tangent", (0, 2)), join("length", (0,)))
 
 
 class InterfaceRecord:

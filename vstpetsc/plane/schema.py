@@ -5,6 +5,7 @@ are refused in it.  Names of regions and curves are checked against the
 mesh when the model reads it (vstpetsc.plane.model); nothing here reads
 the mesh or imports PETSc."""
 
+import math
 import os
 from dataclasses import dataclass, field
 
@@ -162,6 +163,9 @@ def _rectangle(chk, p, where):
     out["triangles"] = chk.boolean(p, "triangles", where)
     if None in out.values():
         return None
+    nx, ny = out["nx"], out["ny"]
+    if _too_big(chk, where, nx * ny * (2 if out["triangles"] else 1), (nx + 1) * (ny + 1)):
+        return None
     out["joints"] = _joints(chk, p.get("joints", {}), f"{where}.joints", out)
     return None if out["joints"] is None else MeshSpec("rectangle", params=out)
 
@@ -175,7 +179,10 @@ def _joints(chk, joints, where, p):
     (y0, y1), ny = p["y"], p["ny"]
     out = {}
     for name, y in joints.items():
-        row = (y - y0) / (y1 - y0) * ny if is_number(y) else None
+        if name_problem(name):
+            chk.add(f"{where}.{name}", f"the joint's name {name_problem(name)}")
+            return None
+        row = (y - y0) / (y1 - y0) * ny if is_number(y) and math.isfinite(y) else None
         if row is None or not 0 < round(row) < ny or abs(row - round(row)) > 1e-9 * ny:
             chk.add(f"{where}.{name}", f"must be the y of a grid row inside the rectangle "
                     f"(y0 + k (y1 - y0) / ny, 0 < k < ny), got {show(y)}")
@@ -197,7 +204,24 @@ def _dam(chk, p, where):
         chk.add(f"{where}.foundation_width", f"must exceed the dam's base "
                 f"({out['crest'] + (out['upstream'] + out['downstream']) * out['height']:g})")
         return None
+    # about a node an h^2 of area; the dam's triangles two a node
+    dam = (out["crest"] + 0.5 * (out["upstream"] + out["downstream"]) * out["height"]) * \
+        out["height"] / out["h"] ** 2
+    rock = out["foundation_width"] * out["foundation_depth"] / out["h"] ** 2
+    if _too_big(chk, f"{where}.h", 2 * dam + rock, dam + rock):
+        return None
     return MeshSpec("dam", params=out)
+
+
+def _too_big(chk, where, cells, nodes):
+    """Whether a generated mesh of about ``cells`` cells and ``nodes``
+    nodes is too big to run here (reported)."""
+    from vstpetsc.plane.mesh_checks import size_problem
+
+    problem = size_problem(cells, nodes)
+    if problem:
+        chk.add(where, problem)
+    return problem is not None
 
 
 def _named(chk, tbl, kind, i, keys, seen, twice):
@@ -206,7 +230,11 @@ def _named(chk, tbl, kind, i, keys, seen, twice):
     where = f"{kind}[{i}]"
     chk.unknown(tbl, keys, where)
     name = chk.string(tbl, "name", where)
-    if name in seen:
+    problem = None if name is None else name_problem(name)
+    if problem:                 # it names an HDF5 group and files
+        chk.add(f"{where}.name", problem)
+        name = None
+    elif name in seen:
         chk.add(f"{where}.name", f"{twice} {name!r}")
     seen.add(name)
     return name, f"{where} ({name})"

@@ -1,11 +1,13 @@
 """The static start of a plane-strain run under gravity ([gravity]
-initial = "static", as in 1-D: docs/loads.md): K u = f_g with every held
-dof and every node of an absorbing curve held, solved once; the run then
-starts from rest in u with the absorbing nodes' reactions K u - f_g kept
-as constant forces (interfaces: each pair closed or open, sticking or
-sliding at mu N, settled by repeated solves, vstpetsc.plane.pairs), so that (u, 0) is an exact equilibrium of the slab
-equations (with v = 0 their right-hand side is dt/2 (f - K u) on both
-time rows, zero everywhere).
+initial = "static", as in 1-D: docs/loads.md): K u = f, f the weight at
+g(0) and the tractions constant in time, with every held dof and every
+node of an absorbing curve held, solved once; the run then starts from
+rest in u with the absorbing nodes' reactions K u - f kept as constant
+forces (interfaces: each pair closed or open, sticking or sliding at mu
+N, settled by repeated solves, vstpetsc.plane.pairs), so that (u, 0) is
+an exact equilibrium of the slab equations (with v = 0 their right-hand
+side is dt/2 (f - K u) on both time rows, zero everywhere).  A part of
+the mesh that nothing holds is named instead (vstpetsc.plane.rigidity).
 
 The solve is rank 0's, on the whole mesh in its numbering as read, with
 PETSc's LU on one process whatever the number of ranks: the static state
@@ -42,15 +44,16 @@ def _original_dofs(model, positions):
     return 2 * model.owned_original[positions // 2] + positions % 2
 
 
-def _solve_on_rank0(model, held, g0):
-    """u of every node (mesh as read), solved on rank 0 (None elsewhere);
-    with interfaces, their pairs' states settled (``_settled``)."""
+def _solve_on_rank0(model, held, g0, carried):
+    """u of every node (mesh as read), solved on rank 0 (None elsewhere),
+    under the weight at g0 and the ``carried`` loads (dofs, forces); with
+    interfaces, their pairs' states settled (``_settled``)."""
     from vstpetsc.plane.loads import unit_gravity
     from vstpetsc.plane.model import spatial_matrices
 
     M, _, K = spatial_matrices(model.mesh, model.cell_materials)
-    f = unit_gravity(M) * g0
-    rhs = f.copy()
+    rhs = unit_gravity(M) * g0
+    np.add.at(rhs, *carried)
     rhs[held] = 0.0
     if model.pairs is None:
         _refuse_free(model.mesh, held)
@@ -135,10 +138,15 @@ def static_state(model, gravity_pattern):
     g0 = float(model.case.gravity.g(np.array([0.0]))[0])
     held_here = np.union1d(bounds.held_dofs()[0], bounds.absorbing_dofs())
     held = comm.tompi4py().gather(_original_dofs(model, held_here), root=0)
+    carried = bounds.constant_loads()
+    loaded = np.flatnonzero(carried)
+    carried_all = comm.tompi4py().gather((_original_dofs(model, loaded), carried[loaded]),
+                                         root=0)
     u = error = None
     if comm.getRank() == 0:
         try:
-            u = _solve_on_rank0(model, np.unique(np.concatenate(held)), g0)
+            u = _solve_on_rank0(model, np.unique(np.concatenate(held)), g0,
+                                tuple(np.concatenate(part) for part in zip(*carried_all)))
         except InputError as exc:       # every rank raises it
             error = str(exc)
     if comm.getSize() > 1:
@@ -156,5 +164,5 @@ def static_state(model, gravity_pattern):
         K = K + springs
     reaction = np.zeros(K.shape[0])
     free_absorbing = np.setdiff1d(bounds.absorbing_dofs(), bounds.held_dofs()[0])
-    reaction[free_absorbing] = (K @ u_global - gravity_pattern * g0)[free_absorbing]
+    reaction[free_absorbing] = (K @ u_global - gravity_pattern * g0 - carried)[free_absorbing]
     return PlaneStatic(u.reshape(-1, 2), (reaction, History(value=1.0)))
