@@ -37,6 +37,13 @@ from vstpetsc.slab import HK
 
 CROSS_STEP = 1e-7
 ROUNDING = 1e-12
+# a given penalty's spring (its slab-mean stiffness per unit length) may be
+# at most this many times the softest series stiffness of the cells beside
+# the curve: A_c = A + dt^2 HK (x) S is factored in double precision, and a
+# spring 1/eps times the cells' stiffness leaves their part of it
+# unresolved (the balance went negative from 1e10 - 1e11 on, and to -100 %
+# of the largest energy at 1e15: docs/interfaces.md, "The penalty's limit")
+PENALTY_LIMIT = 1e8
 
 
 @dataclass
@@ -85,6 +92,39 @@ def default_stiffnesses(mesh, materials, edges, formulation, dt):
         penalty = 2.0 * DEFAULT_BETA["seed"] * normal.max(axis=0) / dt
     tangential = friction_law.BETA / (1.0 / shear).sum(axis=0)
     return float(penalty.max()), float(tangential.max())
+
+
+def penalty_limit(mesh, materials, edges, formulation, dt):
+    """(the largest penalty per unit length an interface along ``edges``
+    takes, the softest series stiffness (lambda + 2 mu) / h of the cells
+    beside it): a spring (the power penalty, the seed's slab-mean
+    stiffness penalty dt / 2) of PENALTY_LIMIT times the latter."""
+    normal, _ = edge_stiffness(mesh, materials, edges)
+    series = float((1.0 / (1.0 / normal).sum(axis=0)).min())
+    spring = PENALTY_LIMIT * series
+    return (spring if formulation == "power" else 2.0 * spring / dt), series
+
+
+def stiffnesses(i, spec, mesh, materials, dt):
+    """(penalty, tangential stiffness) per unit length of interface i
+    (``spec``) on the mesh before its split: the given penalty or the
+    default; ValueError naming the key for a penalty beyond
+    :func:`penalty_limit`."""
+    edges = mesh.curves[spec.name]
+    if not len(edges):
+        return 1.0, 1.0
+    penalty, shear = default_stiffnesses(mesh, materials, edges, spec.formulation, dt)
+    if spec.penalty is None:
+        return penalty, shear
+    limit, series = penalty_limit(mesh, materials, edges, spec.formulation, dt)
+    if spec.penalty > limit:
+        raise ValueError(
+            f"interface[{i}] ({spec.name}).penalty: {spec.penalty:g} is stiffer than double "
+            f"precision resolves beside these cells: at most {limit:.3g} ({PENALTY_LIMIT:g} "
+            f"times the cells' stiffness (lambda + 2 mu) / h in series, {series:.3g}"
+            f"{'' if spec.formulation == 'power' else ', as the slab-mean penalty dt / 2'}; "
+            f"the default is {penalty:.3g})")
+    return spec.penalty, shear
 
 
 class PairSet:
@@ -303,7 +343,8 @@ def static_matrix(pairs, state, nnodes):
 def split_all(specs, mesh, materials, dt):
     """(the mesh split along every interface, [InterfaceInfo], the pairs'
     (nodes, normal, tangent, length)) on rank 0; ValueError naming the
-    interface for a curve the mesh has not or one on its boundary."""
+    interface for a curve the mesh has not or one on its boundary, or a
+    penalty beyond its limit."""
     from vstpetsc.plane.interfaces import split
 
     infos, parts, start = [], [], 0
@@ -312,16 +353,12 @@ def split_all(specs, mesh, materials, dt):
         if spec.name not in mesh.curves:
             raise ValueError(f"{where}: the mesh has no curve {spec.name!r} "
                              f"(curves: {', '.join(mesh.curves) or 'none'})")
-        edges = mesh.curves[spec.name]
         try:
             split_mesh, pairs = split(mesh, spec.name)
         except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None
-        penalty, shear = default_stiffnesses(mesh, materials, edges, spec.formulation, dt) \
-            if len(edges) else (1.0, 1.0)
+        penalty, shear = stiffnesses(i, spec, mesh, materials, dt)
         mesh = split_mesh
-        if spec.penalty is not None:
-            penalty = spec.penalty
         m = pairs.length.size
         infos.append(InterfaceInfo(spec.name, slice(start, start + m), spec.formulation,
                                    penalty, shear if spec.friction is not None else 0.0,
