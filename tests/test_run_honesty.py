@@ -1,12 +1,17 @@
 """What a run reports about itself (issue 44): an interface penalty stiffer
 than double precision resolves is refused (exit 2, one line naming the
-key and the limit; docs/interfaces.md)."""
+key and the limit); `info` prints one initial energy; the run's last line
+says what a user can judge, driven or free: the energy at the start and
+the end, the work put in, what the model and what the time
+discretisation dissipated (docs/interfaces.md, docs/loads.md)."""
+
+import re
 
 import numpy as np
 import pytest
 
 import vstpetsc
-from conftest import cli, solve, write_case
+from conftest import bar, cli, make_case, solve, write_case
 from vstpetsc.plane import pairs as pairs_mod
 
 E, NU, RHO = 1.0e8, 0.3, 2000.0
@@ -14,6 +19,7 @@ M = E * (1 - NU) / ((1 + NU) * (1 - 2 * NU))          # lambda + 2 mu
 # the column's cells are 0.5 wide and 1 high, the joint horizontal: h = 1
 # on both sides, their series stiffness M / 2 per unit length
 SERIES = M / 2.0
+NUMBER = r"(-?[\d.]+(?:e[+-]\d+)?)"
 
 
 def pressed(penalty=None, formulation="power", dt=1.0, end=20.0, gravity=False):
@@ -111,3 +117,101 @@ def test_the_limit_follows_the_softest_cells_beside_the_curve():
         materials[key][above] *= 4.0
     _, stiffer = pairs_mod.penalty_limit(mesh, materials, edges, "power", 1.0)
     assert stiffer == pytest.approx(0.8 * M, rel=1e-12)
+
+
+# ---- (B) and (C): one initial energy; the last line ------------------
+
+def run_and_info(tmp_path, case, name):
+    """(the run's last line, info's text, Result) of ``case`` by the command line."""
+    path = write_case(tmp_path, case, name)
+    out = tmp_path / f"{name}.h5"
+    p = cli("run", path, "-o", out, "--quiet")
+    assert p.returncode == 0, p.stderr
+    info = cli("info", out)
+    assert info.returncode == 0, info.stderr
+    return p.stdout.strip().splitlines()[-1], info.stdout, vstpetsc.Result(str(out))
+
+
+def parsed(line):
+    """{initial, end, work, dissipated, numerical, share, peak} of an energy line."""
+    m = re.search(rf"energy:? {NUMBER} -> {NUMBER}; work in {NUMBER}; dissipated {NUMBER} by "
+                  rf"damping, friction and soil and {NUMBER} by the time discretisation "
+                  rf"\({NUMBER} % of the largest total energy {NUMBER}\)", line)
+    assert m, line
+    keys = ("initial", "end", "work", "dissipated", "numerical", "share", "peak")
+    return dict(zip(keys, map(float, m.groups())))
+
+
+def from_file(r):
+    """The same numbers from the file's datasets, computed here."""
+    e = r.energy
+    holds = sum(e[k] for k in ("kinetic", "strain", "spring", "contact"))
+    peak = np.abs(holds[0] + e["external"]).max()
+    return {"initial": holds[0], "end": holds[-1], "work": e["external"][-1],
+            "dissipated": sum(e[k][-1] for k in ("damping", "soil", "friction", "hysteretic")),
+            "numerical": e["numerical"][-1], "peak": peak,
+            "share": 100 * e["numerical"][-1] / peak}
+
+
+def assert_line_is_the_file(numbers, r):
+    """Each printed number is the file's, to its printed digits; the line
+    closes: initial + work = end + dissipated + numerical."""
+    expected = from_file(r)
+    for key, value in numbers.items():
+        digits = 3 if key == "share" else 6
+        assert value == float(f"{expected[key]:.{digits}g}"), (key, value, expected[key])
+    left = numbers["initial"] + numbers["work"]
+    right = numbers["end"] + numbers["dissipated"] + numbers["numerical"]
+    assert abs(left - right) <= 1e-5 * expected["peak"]
+
+
+def test_info_prints_one_initial_energy(tmp_path):
+    """A column resting on its closed joint (static start): most of its
+    energy at t = 0 is the joint's springs' (it printed "start" without
+    them and "initial" with them).  info's energy line and its balance
+    line print the same initial energy, the one of the file's first row
+    with the contact term."""
+    _, info, r = run_and_info(tmp_path, pressed(gravity=True, dt=1e-3, end=5e-3), "rest")
+    e = r.energy
+    assert e["contact"][0] > 0 and e["strain"][0] > 0
+    energy = [l for l in info.splitlines() if l.startswith("  energy: ")][0]
+    balance = [l for l in info.splitlines() if l.startswith("  energy balance: ")][0]
+    numbers = parsed(energy)
+    initial = float(re.search(rf"initial {NUMBER} \+", balance).group(1))
+    assert numbers["initial"] == initial
+    assert initial == float(f"{e['kinetic'][0] + e['strain'][0] + e['spring'][0] + e['contact'][0]:.6g}")
+    assert_line_is_the_file(numbers, r)
+
+
+def shaken(tmp_path):
+    """A column on a base driven sideways: the work put in dwarfs the
+    initial energy (the issue's +263.5 %)."""
+    drive = [[0.0, 0.0], [0.01, 0.2], [0.04, 0.2]]
+    return vstpetsc.Case.from_dict({
+        "time": {"dt": 1e-3, "end": 0.04},
+        "mesh": {"rectangle": {"x": [0.0, 1.0], "y": [0.0, 2.0], "nx": 2, "ny": 2}},
+        "region": [{"name": "domain", "E": E, "nu": NU, "rho": RHO,
+                    "damping": {"beta": 1e-4}, "v0": [0.0, 0.01]}],
+        "boundary": [{"name": "bottom", "type": "velocity", "value": {"x": drive, "y": 0.0}}]})
+
+
+@pytest.mark.parametrize("kind", ["driven", "free"])
+def test_the_last_line_reads_right_driven_or_free(tmp_path, kind):
+    """The run's last line and info's energy line: the same text, every
+    number the file's (computed here from its datasets), and they close.
+    A driven run (work in much more than the initial energy) prints no
+    percent change of its energy, only the scheme's share of the largest
+    total energy; a free one (a bar on a wall) its work 0."""
+    case = shaken(tmp_path) if kind == "driven" else \
+        make_case(2e-6, 6e-4, [bar("bar", (0.0, 1.0), 40, v0=1.0)],
+                  contacts=[dict(pair=["bar", "wall"], wall=1.0001)])
+    line, info, r = run_and_info(tmp_path, case, kind)
+    numbers = parsed(line)
+    assert_line_is_the_file(numbers, r)
+    assert line.split("; energy ")[1].split("; result: ")[0] in info
+    if kind == "driven":
+        assert abs(numbers["work"]) > 10 * numbers["initial"] and numbers["dissipated"] > 0
+        assert line.count("%") == 1          # the scheme's share only: no +263.5 %
+    else:
+        assert numbers["work"] == 0 and numbers["dissipated"] == 0
+        assert numbers["end"] < numbers["initial"]

@@ -15,6 +15,8 @@ SUMS = ("damping", "contact", "soil", "transferred", "friction", "wall")
 SUMS_BEFORE_FRICTION = SUMS[:4]     # the restart state of files written before friction
 HELD = ("kinetic", "strain", "spring")       # the energy the bodies hold
 KEYS = HELD + SUMMED + ("numerical",)
+# what the model itself dissipates (the run's last line, `info`)
+DISSIPATED = ("damping", "soil", "friction", "hysteretic")
 # "transferred": the work of a cushion on the pile head (pile driving), an
 # exchange between bodies, not a term of the balance; "friction": the
 # energy dissipated by sliding; "hysteretic": by a soil's Masing loops
@@ -29,7 +31,6 @@ class EnergyBook:
         self.model = model
         self.initial = 0.0              # the balance's start: state + stored contact energy
         self.held0 = 0.0                # kinetic + strain + spring at t = 0
-        self.peak = 0.0                 # largest |initial + external| at the kept rows
         self.offset = dict.fromkeys(SUMMED, 0.0)
         self.beyond0 = 0.0      # a soil's strain energy beyond 1/2 u^T K u at t = 0
         ops = model.ops
@@ -72,21 +73,16 @@ class EnergyBook:
             self.beyond0 = soil.stored_beyond_linear()
         self.held0 = sum(self.state(u, v).values()) + self.beyond0
         self.initial = self.held0 + stored
-        self.peak = abs(self.initial)
 
-    def restore(self, first, last, external=(), continued=False):
+    def restore(self, first, last, continued=False):
         """Continue a run from its file: ``first`` and ``last`` map the
-        energy datasets to their values in the first and the last row,
-        ``external`` is the file's external work at every kept row (the
-        peak is the whole run's, not the restarted part's);
+        energy datasets to their values in the first and the last row;
         ``continued``: the solver took its running sums back (the restart
         state), so only the stored contact energy of t = 0 is added, as in
         the run itself (bit for bit); otherwise the sums start from the
         rows' totals (equal to rounding)."""
         self.held0 = sum(float(first[k]) for k in HELD)
         self.initial = self.held0 + float(first["contact"])
-        totals = self.initial + np.asarray(external, dtype=float)
-        self.peak = float(np.abs(totals).max(initial=abs(self.initial)))
         if continued:
             self.offset = dict.fromkeys(SUMMED, 0.0)
             self.offset["contact"] = float(first["contact"])
@@ -94,12 +90,6 @@ class EnergyBook:
             self.offset = {k: float(last.get(k, 0.0)) for k in SUMMED}
         # the soil's loops are summed with its own state (restored with it)
         self.offset["hysteretic"] = 0.0
-
-    def track_peak(self, row):
-        """The largest |initial total + external work| at the kept rows so
-        far (``peak``): the reference of the energy change of a run that
-        starts with none (a body at rest under a load)."""
-        self.peak = max(self.peak, abs(self.initial + row["external"]))
 
     def row(self, u, v, totals, d=None, known=None):
         """{energy dataset: value} for the state (u, v) (d, known: see

@@ -230,8 +230,7 @@ def load_restart(path, case, model, energy):
             # the soil's reversal points and loops are not in (u, v)
             raise InputError(f"--restart: {path} keeps no soil state at its last row (slab "
                              f"{k0}: the run failed there); run the case again")
-        energy.restore(first, last, f["energy/external"][...],
-                       continued=layout.ENERGY_STATE in state)
+        energy.restore(first, last, continued=layout.ENERGY_STATE in state)
         envelopes = lay.read_envelopes(f, model)
     return k0, np.asarray(u), np.asarray(v), state or None, envelopes
 
