@@ -1,17 +1,24 @@
 """What a run reports about itself (issue 44): an interface penalty stiffer
 than double precision resolves is refused (exit 2, one line naming the
-key and the limit); `info` prints one initial energy; the run's last line
-says what a user can judge, driven or free: the energy at the start and
-the end, the work put in, what the model and what the time
-discretisation dissipated (docs/interfaces.md, docs/loads.md)."""
+key and the limit); a run whose energy balance goes negative beyond
+rounding stops (exit 3, status "failed" with the reason) instead of
+completing; `info` prints one initial energy; the run's last line says
+what a user can judge, driven or free: the energy at the start and the
+end, the work put in, what the model and what the time discretisation
+dissipated (docs/troubleshooting.md, docs/interfaces.md)."""
 
+import math
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 import vstpetsc
 from conftest import bar, cli, make_case, solve, write_case
+from vstpetsc import energy as energy_mod
+from vstpetsc.errors import SolveFailed
 from vstpetsc.plane import pairs as pairs_mod
 
 E, NU, RHO = 1.0e8, 0.3, 2000.0
@@ -117,6 +124,84 @@ def test_the_limit_follows_the_softest_cells_beside_the_curve():
         materials[key][above] *= 4.0
     _, stiffer = pairs_mod.penalty_limit(mesh, materials, edges, "power", 1.0)
     assert stiffer == pytest.approx(0.8 * M, rel=1e-12)
+
+
+def test_a_1d_penalty_of_1e40_never_completes_with_a_false_balance(tmp_path):
+    """1-D keeps a pair's penalty out of the slab matrix (Newton on the
+    pair's own coordinates): a penalty of 1e40 makes its Newton fail (exit
+    3, honest) rather than complete with a negative balance; whatever it
+    does, it does not report "completed" with numerical < 0 beyond
+    rounding."""
+    case = make_case(2e-6, 4e-4, [bar("bar", (0.0, 1.0), 20, v0=1.0)],
+                     contacts=[dict(pair=["bar", "wall"], wall=1.0001, penalty=1e40)])
+    try:
+        r = solve(tmp_path, case)
+    except SolveFailed as exc:
+        assert "Newton" in str(exc) or "energy balance" in str(exc)
+        r = vstpetsc.Result(str(tmp_path / "case.h5"))
+        assert r.status == "failed"
+        return
+    e = r.energy
+    largest = max(np.abs(e[k]).max() for k in energy_mod.BALANCE)
+    assert e["numerical"].min() >= -energy_mod.NEGATIVE * largest
+
+
+# ---- (A) the guard in the time loop ------------------------------------
+
+def test_the_guard_is_relative_to_the_largest_term():
+    """balance_problem: a numerical energy of -0.5e-6 of the largest term
+    is rounding (None), -2e-6 of it is not (the message names the slab);
+    the largest term is the largest at the rows so far, not this row's."""
+    book = object.__new__(energy_mod.EnergyBook)         # only its guard
+    book.largest = 0.0
+    row = dict.fromkeys(energy_mod.BALANCE, 0.0)
+    assert book.balance_problem({**row, "external": 100.0, "numerical": 0.0}, 1) is None
+    quiet = {**row, "kinetic": 1.0, "numerical": -0.5e-6 * 100.0}
+    assert book.balance_problem(quiet, 2) is None            # 100 is still the reference
+    loud = {**row, "kinetic": 1.0, "numerical": -2e-6 * 100.0}
+    problem = book.balance_problem(loud, 3)
+    assert problem.startswith("slab 3: the energy balance went negative")
+    assert "-0.0002" in problem and "100" in problem
+
+
+def test_a_run_that_creates_energy_stops_with_exit_3(tmp_path):
+    """The issue's press with the limit lifted (what it would do without
+    it): the balance goes negative in the first slabs; the run stops with
+    exit 3, one line, status "failed" and the reason in the file's
+    message, not "completed"."""
+    path = write_case(tmp_path, pressed(1e40), "press")
+    out = tmp_path / "press.h5"
+    script = ("import sys; from vstpetsc.plane import pairs; pairs.PENALTY_LIMIT = float('inf');"
+              " from vstpetsc.cli import main; sys.exit(main(sys.argv[1:]))")
+    p = subprocess.run([sys.executable, "-c", script, "run", str(path), "-o", str(out),
+                        "--quiet"], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 3, (p.stdout, p.stderr)
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and "the energy balance went negative" in lines[0], p.stderr
+    r = vstpetsc.Result(str(out))
+    assert r.status == "failed" and "the energy balance went negative" in r.attrs["message"]
+    # every kept row holds a balance within the tolerance
+    e = r.energy
+    largest = max(np.abs(e[k]).max() for k in energy_mod.BALANCE)
+    assert e["numerical"].min() >= -energy_mod.NEGATIVE * largest
+    info = cli("info", out)
+    assert info.returncode == 0 and "failed (slab" in info.stdout.splitlines()[0]
+
+
+def test_the_limit_is_what_keeps_the_balance(tmp_path, monkeypatch):
+    """In-process, the limit lifted: 1e40 fails the run (SolveFailed, file
+    "failed"); the largest penalty the limit allows completes with its
+    balance within the tolerance."""
+    monkeypatch.setattr(pairs_mod, "PENALTY_LIMIT", math.inf)
+    with pytest.raises(SolveFailed, match="energy balance went negative"):
+        solve(tmp_path, pressed(1e40), "stiff")
+    assert vstpetsc.Result(str(tmp_path / "stiff.h5")).status == "failed"
+    r = solve(tmp_path, pressed(limit("power")), "limit")
+    e = r.energy
+    largest = max(np.abs(e[k]).max() for k in energy_mod.BALANCE)
+    # rounding at the limit: about 2 eps 1e8 = 4.4e-8 of the largest term
+    assert r.status == "completed" and e["numerical"].min() >= -0.1 * \
+        energy_mod.NEGATIVE * largest
 
 
 # ---- (B) and (C): one initial energy; the last line ------------------
