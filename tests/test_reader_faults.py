@@ -166,24 +166,27 @@ def energy_lines(tmp_path, case, name):
     assert p.returncode == 0, p.stderr
     info = cli("info", out)
     assert info.returncode == 0, info.stderr
-    line = [l for l in info.stdout.splitlines() if l.startswith("  energy: start")]
+    line = [l for l in info.stdout.splitlines() if l.startswith("  energy: ")]
     return p.stdout.strip().splitlines()[-1], line[0], Result(out)
 
 
 def test_pressed_cushion_at_rest_loses_nothing(tmp_path):
     """A body at rest on a pressed cushion (static start under gravity):
-    the run's line and info print the energy the bodies hold at the start
-    and at the end (the same terms, the file's first and last rows) and a
-    change of 0 to rounding (it printed -100 %: the cushion's stored energy
-    counted at the start only)."""
+    the run's line and info print the energy the bodies and the cushion
+    hold at the start and at the end (the same terms, the file's first and
+    last rows), equal to rounding (it printed -100 % when the cushion's
+    stored energy counted at the start only), no work, nothing
+    dissipated."""
     run_line, info_line, r = energy_lines(tmp_path, resting_on_cushion("static"), "pressed")
     e = r.energy
-    held = e["kinetic"] + e["strain"] + e["spring"]
-    assert held[0] > 0 and r.contact(0).gap[0] < 0          # pressed, holding energy
-    e0, e1, change = re.search(r"energy (\S+) -> (\S+) \(([^)]*)\)", run_line).groups()
-    assert (float(e0), float(e1)) == (float(f"{held[0]:.6g}"), float(f"{held[-1]:.6g}"))
-    assert change in ("+0.000 %", "-0.000 %")
-    assert info_line.endswith(f"({change})")
+    holds = e["kinetic"] + e["strain"] + e["spring"] + e["contact"]
+    assert e["strain"][0] > 0 and r.contact(0).gap[0] < 0          # pressed, holding energy
+    e0, e1, work, dissipated = re.search(
+        r"energy (\S+) -> (\S+); work in (\S+); dissipated (\S+) by", run_line).groups()
+    assert (float(e0), float(e1)) == (float(f"{holds[0]:.6g}"), float(f"{holds[-1]:.6g}"))
+    assert float(e1) == pytest.approx(float(e0), rel=1e-6)
+    assert abs(float(work)) <= 1e-9 * float(e0) and float(dissipated) == 0.0
+    assert info_line == "  energy: " + run_line.split("; energy ")[1].split("; result: ")[0]
 
 
 @pytest.mark.parametrize("name, case", [
@@ -200,18 +203,19 @@ def test_start_with_no_energy_prints_no_nan(tmp_path, name, case):
     e = r.energy
     peak = np.abs(r.summary()["energy_initial"] + e["external"]).max()
     for line in (run_line, info_line):
-        share, reference = re.search(r"= (\S+) % of the largest total energy (\S+)\)",
+        share, reference = re.search(r"\((\S+) % of the largest total energy (\S+)\)",
                                      line).groups()
         assert float(reference) == float(f"{peak:.6g}")
         assert float(share) == float(f"{100 * e['numerical'][-1] / peak:.3g}")
 
 
 def test_no_energy_at_all(tmp_path):
-    """Nothing moves and nothing loads: the change in absolute terms."""
+    """Nothing moves and nothing loads: no share of nothing."""
     run_line, info_line, _ = energy_lines(
         tmp_path, make_case(1e-3, 0.01, [bar("bar", (0.0, 1.0), 4, E=1.0, rho=1.0)]), "still")
     for line in (run_line, info_line):
-        assert "nan" not in line and "no energy in the run: change +0" in line
+        assert "nan" not in line and "energy 0 -> 0; work in 0;" in line.replace(":", "") \
+            and "(no energy in the run)" in line
 
 
 def older_format(path):

@@ -238,16 +238,16 @@ def _solve(case, out_path, petsc_args, opts):
         raise
     except SolveFailed as exc:
         raise SolveFailed(f"{exc}; result kept in {out_path} (status \"failed\")") from None
-    from vstpetsc.results.summary import energy_change
+    from vstpetsc.results.summary import energy_line, energy_totals
 
     info = result.run
     if _rank() == 0:
-        e0, e1 = info.energy0, info.energy1
-        change = energy_change(e0, e1, info.numerical, info.peak)
+        # from the file, as `info` reads it: the same numbers, over every
+        # kept row of a restarted run too
+        energy = energy_line(energy_totals({key: result.energy[key] for key in result.energy}))
         print(f"completed {info.slabs} slabs in {info.wall:.2f} s "
               f"({1e3 * info.wall / max(info.slabs, 1):.3f} ms/slab); "
-              f"energy {e0:.6g} -> {e1:.6g} ({change}), numerical "
-              f"{info.numerical:.3g}; result: {out_path}", flush=True)
+              f"energy {energy}; result: {out_path}", flush=True)
     return 0
 
 

@@ -13,7 +13,7 @@ import numpy as np
 from dataclasses import dataclass
 
 from vstpetsc import model as model_mod
-from vstpetsc.energy import HELD, EnergyBook
+from vstpetsc.energy import EnergyBook
 from vstpetsc.errors import InputError, Interrupted, SolveFailed
 from vstpetsc.loading import SlabLoads
 from vstpetsc.recorder import Recorder, load_restart
@@ -29,10 +29,6 @@ class RunInfo:
 
     slabs: int          # slabs computed by this call
     wall: float         # seconds, set-up included
-    energy0: float      # kinetic + strain + spring at t = 0 (the file's first row)
-    energy1: float      # kinetic + strain + spring at the last kept row
-    numerical: float    # energy dissipated by the time discretisation so far
-    peak: float = 0.0   # largest |initial total + external work| at the kept rows of the file
 
 
 def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
@@ -211,7 +207,6 @@ class TimeLoop:
             if self.static is not None:
                 u, v = u + self.static.u, v + self.static.v
             self.energy.start(u, v)
-        energy0 = self.energy.held0
         self.solver.set_state(u, v, envelopes)
         if rhs is not None:
             self.solver.restart.restore(rhs)
@@ -224,14 +219,11 @@ class TimeLoop:
         # completed run closes its file is too late to stop anything
         with StopSignals() as stop:
             self.recorder.open(restart, self._attrs(petsc_options), u, v)
-            energy1 = self._loop(k0, stop)
+            self._loop(k0, stop)
             self.recorder.close("completed", case.nslabs, snapshot=True,
                                 wall_time=time.perf_counter() - self.start,
                                 setup_time=self.setup_time)
-        last = energy1 or {}
-        return RunInfo(case.nslabs - k0, time.perf_counter() - self.start, energy0,
-                       sum(last.get(k, 0.0) for k in HELD),
-                       last.get("numerical", 0.0), self.energy.peak)
+        return RunInfo(case.nslabs - k0, time.perf_counter() - self.start)
 
     def _attrs(self, petsc_options):
         """The root attributes of the result file."""
@@ -246,11 +238,11 @@ class TimeLoop:
                 "solver": self.solver.describe()}
 
     def _loop(self, k0, stop):
-        """Slabs k0+1 .. n; the energies of the last kept row (None if none)."""
+        """Slabs k0+1 .. n."""
         case, solver = self.case, self.solver
         n, dt = case.nslabs, case.dt
         progress = Progress(n - k0, self.err if self.talk else None)
-        energy1, k = None, k0
+        k = k0
         gauges = len(self.recorder.gauges) > 0
         try:
             for k in range(k0 + 1, n + 1):
@@ -263,9 +255,7 @@ class TimeLoop:
                     self.recorder.gauge_row()
                 signum = self.space.max_over_ranks(stop.signum)
                 if k % case.every == 0 or k == n or signum:
-                    energy1 = self.recorder.record(k, its)
-                    if energy1 is not None:
-                        self.energy.track_peak(energy1)
+                    self.recorder.record(k, its)
                 progress.update(k - k0, t1, force=k == n)
                 if signum:
                     raise Interrupted(signum, f"stopped by {signal.Signals(signum).name} "
@@ -274,7 +264,6 @@ class TimeLoop:
             progress.done()
             self._stop(exc, k)
         progress.done()
-        return energy1
 
     def _stop(self, exc, k):
         """End a run that stopped inside the loop: close the file with the

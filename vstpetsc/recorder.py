@@ -8,6 +8,7 @@ import time
 
 import numpy as np
 
+from vstpetsc.energy import BALANCE, largest_term
 from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.results import layout, layouts
 
@@ -136,15 +137,17 @@ class Recorder:
         returns the row's energies (rank 0)."""
         state = self.solver.gather_state()
         totals = self.solver.totals()
-        energy = None
+        energy, problem = None, None
         if self.rank0:
             u, v = state
             d = self.solver.elongation()
             energy = self.energy.row(u, v, totals, d, self.solver.state_energies())
-        # a row beyond the range of doubles is not kept: the run fails on it
-        if self.space.max_over_ranks(int(self.rank0 and not _finite(energy))):
-            raise SolveFailed(f"slab {k}: the energies are not finite (values beyond the "
-                              "range of a double)")
+            problem = self._problem(energy, k)
+        # a row beyond the range of doubles, or with a negative balance, is
+        # not kept: the run fails on it
+        problem = self.space.from_rank0(problem)
+        if problem:
+            raise SolveFailed(problem)
         if self.rank0:
             buffers, i = self.writer.slot()
             self.rows.fill(buffers, i, k, u, v, its, time.perf_counter() - self.start, energy, d)
@@ -152,6 +155,12 @@ class Recorder:
         if self.space.max_over_ranks(int(self.rank0 and self.writer.due())):
             self.flush(k)
         return energy
+
+    def _problem(self, energy, k):
+        """Why slab k's energies cannot be kept, or None (rank 0)."""
+        if not _finite(energy):
+            return f"slab {k}: the energies are not finite (values beyond the range of a double)"
+        return self.energy.balance_problem(energy, k)
 
     def _take_events(self):
         """The pairs' events since the last kept row (every rank), to the
@@ -231,8 +240,9 @@ def load_restart(path, case, model, energy):
             # the soil's reversal points and loops are not in (u, v)
             raise InputError(f"--restart: {path} keeps no soil state at its last row (slab "
                              f"{k0}: the run failed there); run the case again")
-        energy.restore(first, last, f["energy/external"][...],
-                       continued=layout.ENERGY_STATE in state)
+        energy.restore(first, last, continued=layout.ENERGY_STATE in state,
+                       largest=largest_term({key: f[f"energy/{key}"][...] for key in BALANCE
+                                             if f"energy/{key}" in f}))
         envelopes = lay.read_envelopes(f, model)
     return k0, np.asarray(u), np.asarray(v), state or None, envelopes
 

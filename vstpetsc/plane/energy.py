@@ -35,14 +35,14 @@ def centre_stress(mesh, u, lam, mu):
 
 
 class RunEnergyBook(shared.EnergyBook):
-    """The shared EnergyBook (the rows' terms, restarts, the peak) over a
+    """The shared EnergyBook (the rows' terms, restarts, the guard) over a
     plane-strain solver: the state's kinetic and strain energy come with
     the solver's totals (summed over the ranks); no springs but the
     interfaces' (their energy is "contact")."""
 
     def __init__(self, model, solver):
         self.model, self.solver = model, solver
-        self.initial = self.held0 = self.peak = self.beyond0 = 0.0
+        self.initial = self.held0 = self.largest = self.beyond0 = 0.0
         self.offset = dict.fromkeys(shared.SUMMED, 0.0)
         self.first = (0.0, 0.0)
 
@@ -63,7 +63,7 @@ class RunEnergyBook(shared.EnergyBook):
                         static=gravity is not None and gravity.initial == "static")
             self.offset["contact"] = pairs.stored_energy()
             self.initial += self.offset["contact"]
-        self.peak = abs(self.initial)
+        self.largest = abs(self.initial)
 
     def row(self, u, v, totals, d=None, known=None):
         if "kinetic" in totals:

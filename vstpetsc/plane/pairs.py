@@ -37,6 +37,13 @@ from vstpetsc.slab import HK
 
 CROSS_STEP = 1e-7
 ROUNDING = 1e-12
+# a given penalty's spring (its slab-mean stiffness per unit length) may be
+# at most this many times the softest series stiffness of the cells beside
+# the curve: A_c = A + dt^2 HK (x) S is factored in double precision, and a
+# spring 1/eps times the cells' stiffness leaves their part of it
+# unresolved (the balance went negative from 1e10 - 1e11 on, and to -100 %
+# of the largest energy at 1e15: docs/interfaces.md, "The penalty's limit")
+PENALTY_LIMIT = 1e8
 
 
 @dataclass
@@ -85,6 +92,39 @@ def default_stiffnesses(mesh, materials, edges, formulation, dt):
         penalty = 2.0 * DEFAULT_BETA["seed"] * normal.max(axis=0) / dt
     tangential = friction_law.BETA / (1.0 / shear).sum(axis=0)
     return float(penalty.max()), float(tangential.max())
+
+
+def penalty_limit(mesh, materials, edges, formulation, dt):
+    """(the largest penalty per unit length an interface along ``edges``
+    takes, the softest series stiffness (lambda + 2 mu) / h of the cells
+    beside it): a spring (the power penalty, the seed's slab-mean
+    stiffness penalty dt / 2) of PENALTY_LIMIT times the latter."""
+    normal, _ = edge_stiffness(mesh, materials, edges)
+    series = float((1.0 / (1.0 / normal).sum(axis=0)).min())
+    spring = PENALTY_LIMIT * series
+    return (spring if formulation == "power" else 2.0 * spring / dt), series
+
+
+def stiffnesses(i, spec, mesh, materials, dt):
+    """(penalty, tangential stiffness) per unit length of interface i
+    (``spec``) on the mesh before its split: the given penalty or the
+    default; ValueError naming the key for a penalty beyond
+    :func:`penalty_limit`."""
+    edges = mesh.curves[spec.name]
+    if not len(edges):
+        return 1.0, 1.0
+    penalty, shear = default_stiffnesses(mesh, materials, edges, spec.formulation, dt)
+    if spec.penalty is None:
+        return penalty, shear
+    limit, series = penalty_limit(mesh, materials, edges, spec.formulation, dt)
+    if spec.penalty > limit:
+        raise ValueError(
+            f"interface[{i}] ({spec.name}).penalty: {spec.penalty:g} is stiffer than double "
+            f"precision resolves beside these cells: at most {limit:.3g} ({PENALTY_LIMIT:g} "
+            f"times the cells' stiffness (lambda + 2 mu) / h in series, {series:.3g}"
+            f"{'' if spec.formulation == 'power' else ', as the slab-mean penalty dt / 2'}; "
+            f"the default is {penalty:.3g})")
+    return spec.penalty, shear
 
 
 class PairSet:
@@ -304,8 +344,8 @@ def split_all(specs, mesh, materials, dt):
     """(the mesh split along every interface at once (interfaces.split_along:
     the same whatever the tables' order), [InterfaceInfo], the pairs'
     (nodes, normal, tangent, length)) on rank 0; ValueError naming the
-    interface for a curve the mesh has not, one on its boundary, or an
-    edge two interfaces share."""
+    interface for a curve the mesh has not, one on its boundary, an edge
+    two interfaces share, or a penalty beyond its limit."""
     from vstpetsc.plane.interfaces import split_along
 
     for i, spec in enumerate(specs):
@@ -319,12 +359,8 @@ def split_all(specs, mesh, materials, dt):
         named = next((i for i, n in enumerate(names) if repr(n) in str(exc)), 0)
         raise ValueError(f"interface[{named}] ({names[named]}).name: {exc}") from None
     infos, start = [], 0
-    for spec, pairs in zip(specs, parts):
-        edges = mesh.curves[spec.name]
-        penalty, shear = default_stiffnesses(mesh, materials, edges, spec.formulation, dt) \
-            if len(edges) else (1.0, 1.0)
-        if spec.penalty is not None:
-            penalty = spec.penalty
+    for i, (spec, pairs) in enumerate(zip(specs, parts)):
+        penalty, shear = stiffnesses(i, spec, mesh, materials, dt)
         m = pairs.length.size
         infos.append(InterfaceInfo(spec.name, slice(start, start + m), spec.formulation,
                                    penalty, shear if spec.friction is not None else 0.0,

@@ -2,10 +2,12 @@
 
 import numpy as np
 
+from vstpetsc.energy import DISSIPATED, HELD
 from vstpetsc.results import layout
 from vstpetsc.results.layout import text
 
-NO_REFERENCE = 1e-12    # e0 below this fraction of the largest total energy is no reference
+# the energy a run holds: the bodies' and the contact pairs' (their springs)
+HOLDS = HELD + ("contact",)
 LISTED_CONTACTS = 3     # contacts `info` lists one by one (then the total)
 
 
@@ -102,9 +104,7 @@ def summarize(result):
     t_end = float(time[-1]) if time.size else 0.0
     pairs = [pair_summary(result.contact(k), k, t_end) for k in range(result.ncontacts)]
     energies = {key: result.energy[key] for key in result.energy}
-    energy = energies["kinetic"] + energies["strain"] + energies.get("spring", 0.0)
-    initial = float(sum(energies[k][0] for k in ("kinetic", "strain", "spring", "contact")
-                        if k in energies and energies[k].size))
+    totals = energy_totals(energies)
     newton = result.solver["newton_iterations"][1:]
     linear = result.solver["linear_iterations"][1:]
     return {
@@ -119,17 +119,32 @@ def summarize(result):
             result, name) for name in result.gauges],
         "plane": plane_summary(result) if result.dimension == 2 else None,
         "soils": soil_summaries(result), "unit_length": text(a.get("unit_length", "m")),
-        "energy_start": float(energy[0]) if energy.size else np.nan,
-        "energy_end": float(energy[-1]) if energy.size else np.nan,
         "newton_mean": float(newton.mean()) if newton.size else 0.0,
         "newton_max": int(newton.max()) if newton.size else 0,
         "linear_mean": float(linear.mean()) if linear.size else 0.0,
         "wall_time": float(a.get("wall_time", np.nan)),
-        "energy": {key: float(val[-1]) for key, val in energies.items()},
-        "energy_initial": initial,
-        "energy_peak": float(np.abs(initial + energies["external"]).max(initial=abs(initial)))
-        if "external" in energies else abs(initial),
+        "energy": {key: float(val[-1]) for key, val in energies.items() if val.size},
+        **{f"energy_{key}": value for key, value in totals.items()},
     }
+
+
+def energy_totals(energies):
+    """The run's energy in a few numbers from its energy datasets
+    ({name: array}): ``initial`` (what the bodies and the contact pairs
+    hold at t = 0: the balance's initial total), ``end`` (the same terms at
+    the last row), ``work`` (the external work put in), ``dissipated``
+    (damping, friction, soil, hysteresis), ``numerical`` (what the time
+    discretisation dissipated) and ``peak`` (the largest |initial + work|
+    at the rows): initial + work = end + dissipated + numerical."""
+    def at(row):
+        return lambda key: float(energies[key][row]) if key in energies and \
+            energies[key].size else 0.0
+    first, last = at(0), at(-1)
+    initial = sum(first(k) for k in HOLDS)
+    work = energies.get("external", np.zeros(0))
+    return {"initial": initial, "end": sum(last(k) for k in HOLDS), "work": last("external"),
+            "dissipated": sum(last(k) for k in DISSIPATED), "numerical": last("numerical"),
+            "peak": float(np.abs(initial + work).max(initial=abs(initial)))}
 
 
 def soil_summaries(result):
@@ -280,19 +295,24 @@ def shear_peaks(result, name, x):
     return out
 
 
-def energy_change(e0, e1, numerical, peak):
-    """The change of the energy the bodies hold (kinetic + strain + spring,
-    from e0 at the start to e1), as text: relative to e0; when e0 is no
-    reference (0 or next to nothing: a body at rest, loaded by gravity or a
-    traction), the numerical dissipation relative to ``peak``, the largest
-    total energy (initial + external work) the run reached; when that is 0
-    too, the change itself."""
-    if e0 > NO_REFERENCE * peak and e0 > 0:
-        return f"{100 * (e1 - e0) / e0:+.3f} %"
-    if peak > 0:
-        return (f"from rest: numerical {numerical:.3g} = {100 * numerical / peak:.3g} % of the "
-                f"largest total energy {peak:.6g}")
-    return f"no energy in the run: change {e1 - e0:+.3g}"
+def energy_line(t):
+    """The energy of a run in a line (``t``: :func:`energy_totals`), the
+    same in the run's last line and in `info`: what the bodies and the
+    contact pairs held at the start and at the end, the work put in, what
+    the model dissipated and what the time discretisation did, as a share
+    of the largest total energy (initial + work) the run reached, which a
+    run from rest or driven from outside has as well as a free one."""
+    share = (f"{100 * t['numerical'] / t['peak']:.3g} % of the largest total energy "
+             f"{t['peak']:.6g}" if t["peak"] > 0 else "no energy in the run")
+    return (f"{t['initial']:.6g} -> {t['end']:.6g}; work in {t['work']:.6g}; dissipated "
+            f"{t['dissipated']:.6g} by damping, friction and soil and {t['numerical']:.6g} by "
+            f"the time discretisation ({share})")
+
+
+def energy_totals_of(s):
+    """The :func:`energy_totals` a summary ``s`` holds."""
+    return {key: s[f"energy_{key}"] for key in ("initial", "end", "work", "dissipated",
+                                                "numerical", "peak")}
 
 
 def balance_lines(s):
@@ -304,7 +324,7 @@ def balance_lines(s):
                                                     "contact", "soil", "friction", "hysteretic")
                       if k in e)
     budget = max(abs(s["energy_initial"]) + abs(e["external"]), 1e-300)
-    return [f"  energy balance: initial {s['energy_initial']:.4g} + external {e['external']:.4g}"
+    return [f"  energy balance: initial {s['energy_initial']:.6g} + external {e['external']:.6g}"
             f" = {held} + numerical {e['numerical']:.4g} ({100 * e['numerical'] / budget:.3g} %"
             " dissipated by the time discretisation)"]
 
@@ -375,9 +395,7 @@ def format_summary(s, path):
         if p.get("contacts") is not None:
             lines.append(contact_line(k, p, s["t_end"]))
         lines += slip_lines(p)
-    e0, e1 = s["energy_start"], s["energy_end"]
-    change = energy_change(e0, e1, s["energy"].get("numerical", 0.0), s.get("energy_peak", 0.0))
-    lines.append(f"  energy: start {e0:.6g}, end {e1:.6g} ({change})")
+    lines.append(f"  energy: {energy_line(energy_totals_of(s))}")
     lines += balance_lines(s)
     lines.append(f"  Newton iterations per slab: mean {s['newton_mean']:.3g}, max "
                  f"{s['newton_max']}; linear solves per slab: mean {s['linear_mean']:.3g}")
