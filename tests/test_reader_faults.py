@@ -9,11 +9,14 @@ import numpy as np
 import pytest
 
 import faults
+import vstpetsc
 from conftest import bar, cli, make_case, write_case
 from vstpetsc import Result
 from vstpetsc.results import layout
 from vstpetsc.results.files import OutputLock
 from vstpetsc.results.hdf5 import swmr_format
+
+RESTART = ("solver/rhs_state", "solver/newton_state", "solver/energy_sums")
 
 
 @pytest.fixture(scope="module")
@@ -137,6 +140,45 @@ def test_restart_keeps_counts(written, tmp_path):
         assert f.attrs[layout.COMPLETE_GAUGE_ROWS] == f["gauge/a-mid/u"].shape[0]
     ok, detail = faults.consistent(part)
     assert ok, detail
+
+
+def made_in_swmr_mode(monkeypatch):
+    """[(module, name)] of every dataset, attribute and group made (through
+    h5py, high or low level) in a file open for SWMR writing, filled while
+    the test runs."""
+    made = []
+    for module in (h5py.h5d, h5py.h5a, h5py.h5g):
+        def spy(loc, name, *args, _real=module.create, _module=module.__name__, **kwargs):
+            if h5py.h5i.get_file_id(loc).get_intent() & h5py.h5f.ACC_SWMR_WRITE:
+                made.append((_module, name))
+            return _real(loc, name, *args, **kwargs)
+        monkeypatch.setattr(module, "create", spy)
+    return made
+
+
+def test_nothing_made_in_swmr_mode(tmp_path, monkeypatch):
+    """HDF5's SWMR covers a writer growing datasets and writing their data,
+    not making objects: blocks that made /solver/rhs_state, newton_state
+    and energy_sums turned /solver's links into a fractal heap that a
+    reader met half written ("wrong fractal heap header signature", in the
+    soak below on a loaded machine).  A run writing a block per kept row,
+    and a restart of a file without the restart state (a run killed before
+    its first block), make every object before the file goes into SWMR mode;
+    the restart state made at the start is stamped -1, so a restart does
+    not take it."""
+    made = made_in_swmr_mode(monkeypatch)
+    out = str(tmp_path / "r.h5")
+    fast = ["-vst_flush_interval", "0"]
+    vstpetsc.run(faults.long_case(end=0.05, every=10, elements=20), out, fast, quiet=True)
+    with h5py.File(out, "a", locking=False) as f:
+        assert all(f[name].attrs["slab"] == 50 for name in RESTART)
+        for name in RESTART:                           # as a run killed early leaves it
+            del f[name]
+    vstpetsc.run(faults.long_case(end=0.1, every=10, elements=20), out, fast, quiet=True,
+                 restart=True)
+    assert made == []
+    with h5py.File(out, "r", locking=False) as f:
+        assert all(f[name].attrs["slab"] == 100 for name in RESTART)
 
 
 def test_reads_while_a_run_writes(tmp_path):

@@ -328,7 +328,15 @@ class Result(PlaneParts, FileReads):
 def _outline(f):
     """(missing required names, body names left to right, number of
     contact pairs, complete rows, complete gauge rows, {name: kind} of every
-    group and dataset (:func:`_walk`)) of an open file."""
+    group and dataset (:func:`_walk`)) of an open file.  The counts of
+    complete rows are read first, the kept rows' before the gauge rows'
+    (the writer puts them on disk in the other order, ``Completed``), and
+    the datasets' lengths after them: a running file's datasets only grow,
+    so each is then at least as long as its count (lengths read before
+    could be older than the counts: a walk that met a block's flush half
+    done saw the kept rows grown and the gauge rows not yet)."""
+    limits = [int(f.attrs.get(attr, np.iinfo(np.int64).max))
+              for attr in (layout.COMPLETE_ROWS, layout.COMPLETE_GAUGE_ROWS)]
     plane = int(f.attrs.get(plane_layout.DIMENSION, 1)) == 2
     missing = [k for k in (plane_layout.REQUIRED if plane else layout.REQUIRED) if k not in f]
     bodies = [name for _, name in sorted((f[layout.body_path(n, "x")][0], n)
@@ -340,9 +348,8 @@ def _outline(f):
         names[name] = kind
         if kind in ("series", "table") and not layout.is_events(name):
             (every_slab if layout.every_slab(name) else kept).append(length)
-    counts = [min(lengths + [int(f.attrs.get(attr, np.iinfo(np.int64).max))])
-              if lengths else 0 for lengths, attr in
-              ((kept, layout.COMPLETE_ROWS), (every_slab, layout.COMPLETE_GAUGE_ROWS))]
+    counts = [min(lengths + [limit]) if lengths else 0
+              for lengths, limit in zip((kept, every_slab), limits)]
     return missing, bodies, ncontacts, *counts, names
 
 
