@@ -3,6 +3,9 @@ change a run and `vstpetsc info` print (item 6)."""
 
 import os
 import re
+import shutil
+import subprocess
+import sys
 
 import h5py
 import numpy as np
@@ -88,7 +91,8 @@ def test_readers_of_a_block_half_written(written, tmp_path, which):
 def test_read_racing_a_write_is_retried(written, tmp_path, monkeypatch):
     """A file of the format before SWMR (a restart continues it without
     SWMR): an HDF5 error while a run holds it (a read that met a write half
-    done) is retried; on a file nobody writes it is raised at once."""
+    done) is retried; on a file nobody writes it is raised after one more
+    read (the run may have let go of the file since the error)."""
     _, done, _ = written
     path = tmp_path / "held.h5"
     with h5py.File(done, "r") as src, h5py.File(path, "w", libver="earliest") as old:
@@ -116,6 +120,58 @@ def test_read_racing_a_write_is_retried(written, tmp_path, monkeypatch):
     failures.clear()
     with pytest.raises(OSError):
         r.time
+
+
+# a run's last moments on file argv[1]: SWMR writing until a line on stdin,
+# then (as ResultWriter.close) closed, opened plainly, the status written,
+# and held so for half a second
+ENDING_RUN = r"""
+import sys, time, h5py
+from vstpetsc.results.files import OutputLock
+lock = OutputLock(sys.argv[1])
+lock.existing()
+f = h5py.File(sys.argv[1], "a", libver="latest", locking=False)
+f.swmr_mode = True
+print("swmr", flush=True)
+sys.stdin.readline()
+f.close()
+f = h5py.File(sys.argv[1], "a", libver="latest", locking=False)
+f.attrs["status"] = "completed"
+f.flush()
+print("plain", flush=True)
+time.sleep(0.5)
+f.close()
+lock.release()
+"""
+
+
+def test_the_end_of_a_run_is_waited_for(written, tmp_path):
+    """A run writes its status once its file has left SWMR mode (and a
+    restart writes before SWMR starts): HDF5 then refuses to open the file
+    ("file is already open for write"), and a Result made in SWMR mode may
+    meet stale metadata.  Its reads, a session's too, are retried until
+    the run has let go of the file (before: the session's open failed in
+    20 of 30 trials of readers across the end of a run)."""
+    _, done, _ = written
+    path = tmp_path / "ending.h5"
+    shutil.copy(done, path)
+    with h5py.File(path, "a", locking=False) as f:
+        f.attrs["status"] = "running"
+    run = subprocess.Popen([sys.executable, "-c", ENDING_RUN, str(path)], text=True,
+                           stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+    try:
+        assert run.stdout.readline().strip() == "swmr"
+        r = Result(path)
+        assert r._swmr and r.status == "running"
+        run.stdin.write("\n")
+        run.stdin.flush()
+        assert run.stdout.readline().strip() == "plain"
+        with r.session():
+            assert r.status == "completed"
+            assert np.array_equal(r.time, Result(done).time)
+    finally:
+        run.communicate(timeout=60)
+    assert run.returncode == 0
 
 
 def test_completed_file_counts(written):
