@@ -72,17 +72,19 @@ class Recorder:
 
         model = self.model
         snapshots = self._snapshots(rhs=False)          # collective
+        # the restart state the blocks write: its datasets are made before
+        # the file goes into SWMR mode (Snapshots.reserve)
+        state = self.solver.restart.saved()             # collective
         case = model.case
         # the rows this run writes at most: a tiny run's buffers are small
         expected = (case.nslabs // case.every + 2, case.nslabs + 2)
 
         def create():
             if restart:
-                self.writer = ResultWriter.reopen(self.lock, attrs, self.interval, expected)
                 # events of slabs after the last row (a block killed midway)
-                self.writer.events.truncate({name: law.totals["event_count"]
-                                             for law, name in self.event_sets})
-                self.writer.events.complete()
+                events = {name: law.totals["event_count"] for law, name in self.event_sets}
+                self.writer = ResultWriter.reopen(self.lock, attrs, self.interval, expected,
+                                                  state, events)
                 return
             first = self.rows.row(0, u, v, (0, 0), 0.0, self.energy.row(u, v, {}))
             if len(self.gauges):
@@ -91,7 +93,7 @@ class Recorder:
             self.writer = ResultWriter.create(
                 self.output, self.layout.series(model), self.layout.statics(model),
                 self.layout.group_attrs(model), attrs, first, self.interval, snapshots,
-                [name for _, name in self.event_sets], expected)
+                [name for _, name in self.event_sets], expected, state)
         self._agree(create)
         self.compiled_gauges = None
         if self.writer and self.writer.gauges:

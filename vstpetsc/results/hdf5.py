@@ -42,6 +42,20 @@ def swmr_format(path):
     return head[:8] == b"\x89HDF\r\n\x1a\n" and head[8] >= 3
 
 
+def swmr_writing(path):
+    """Whether a writer has file ``path`` open in SWMR mode now: the flag
+    0x04 of the file consistency flags (byte 11 of a superblock of version
+    3) that HDF5 sets when SWMR writing starts and clears when the file is
+    closed (a plain open for writing sets 0x01 alone)."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(12)
+    except OSError:
+        return False
+    return len(head) == 12 and head[:8] == b"\x89HDF\r\n\x1a\n" and head[8] >= 3 \
+        and bool(head[11] & 0x04)
+
+
 def open_to_write(path, mode):
     """Result file ``path`` open to write (``mode`` "w" or "a") in the newest
     format; a file whose SWMR writer was killed is first cleared of HDF5's

@@ -4,15 +4,19 @@ the file when it is asked for, so a big file costs nothing to open).
 A file being written by a run is read safely: the run writes it in HDF5's
 single-writer/multiple-reader (SWMR) mode and a Result reads it in SWMR
 read mode, so every read sees a consistent file without retries
-(:func:`~vstpetsc.results.hdf5.open_to_read`).  The run grows its datasets
+(:func:`~vstpetsc.results.hdf5.open_to_read`).  A run writes its file
+without SWMR for a moment at its start (a restart) and at its end (the
+status and summaries, after the last block): HDF5 then refuses to open it
+("file is already open for write") and a read may meet a write half done;
+such an error, while a run holds the file and is not in SWMR mode, is
+retried (:meth:`FileReads._with_file`).  The run grows its datasets
 before it writes their rows, so a Result reads, when it is opened, how
 many rows are complete in every dataset (the attributes
 :data:`~vstpetsc.results.layout.COMPLETE_ROWS` and ``COMPLETE_GAUGE_ROWS``
 that the writer sets after each block is on disk; the shortest dataset in
 a file without them) and shows every series cut to those many rows.  A
-file of the older format continued by a restart is written without SWMR:
-an HDF5 error while its run holds it (a read that met a write half done)
-is retried.
+file of the older format continued by a restart is written without SWMR
+all along: its reads are retried so too.
 """
 
 import contextlib
@@ -70,32 +74,56 @@ class FileReads:
         if self._file is not None:
             yield self
             return
-        self._file = self._open()
+        self._file = self._retried(self._open)
         try:
             yield self
         finally:
-            self._file.close()
+            if self._file is not None:          # (None: given up, _with_file)
+                self._file.close()
             self._file = None
 
     def _with_file(self, action):
-        """``action(f)`` on the open file.  A file read in SWMR mode is read
-        once; one that a run writes without SWMR is read again for up to
-        RETRY_SECONDS while the run holds it (its write raced this read)."""
+        """``action(f)`` on the open file (the session's, or one opened for
+        it), retried as :meth:`_retried` says.  A session's file that met
+        an error is closed, and the session's reads open the file each:
+        HDF5 shares a file opened twice in a process, so reads retried
+        beside it would meet its stale metadata again."""
         if self._file is not None:
             try:
                 return action(self._file)
             except HDF5_ERRORS:
-                if self._swmr:
+                if _in_swmr(self.path):
                     raise
-        deadline = time.monotonic() + RETRY_SECONDS
+                self._file.close()
+                self._file = None
+
+        def read():
+            with self._open() as f:
+                return action(f)
+        return self._retried(read)
+
+    def _retried(self, read):
+        """``read()``; an HDF5 error is raised at once while a run holds the
+        file in SWMR mode (none is expected there: HDF5 orders the writer's
+        metadata for SWMR readers).  While a run holds it without SWMR (a
+        file of the older format; a restart before SWMR starts; the end of
+        a run, its status written after the file left SWMR mode) it is read
+        again every 10 ms for up to RETRY_SECONDS.  On a file that no run
+        holds it is read once more at once (the run may have let go of it
+        since the error), then raised."""
+        from vstpetsc.results.hdf5 import swmr_writing
+        deadline, again = time.monotonic() + RETRY_SECONDS, True
         while True:
             try:
-                with self._open() as f:
-                    return action(f)
+                return read()
             except HDF5_ERRORS:
-                if self._swmr or time.monotonic() > deadline or not held(self.path):
+                free = not held(self.path)
+                if (free and not again) or time.monotonic() > deadline or \
+                        (not free and swmr_writing(self.path)):
                     raise
-            time.sleep(0.01)
+                again = not free
+            if again:
+                time.sleep(0.01)
 
     def _rows_of(self, name, ds=None):
         """The rows of dataset ``name`` (open as ``ds``) a reader sees
@@ -325,10 +353,24 @@ class Result(PlaneParts, FileReads):
             return summarize(self)
 
 
+def _in_swmr(path):
+    """Whether a run holds file ``path`` and writes it in SWMR mode now."""
+    from vstpetsc.results.hdf5 import swmr_writing
+    return held(path) and swmr_writing(path)
+
+
 def _outline(f):
     """(missing required names, body names left to right, number of
     contact pairs, complete rows, complete gauge rows, {name: kind} of every
-    group and dataset (:func:`_walk`)) of an open file."""
+    group and dataset (:func:`_walk`)) of an open file.  The counts of
+    complete rows are read first, the kept rows' before the gauge rows'
+    (the writer puts them on disk in the other order, ``Completed``), and
+    the datasets' lengths after them: a running file's datasets only grow,
+    so each is then at least as long as its count (lengths read before
+    could be older than the counts: a walk that met a block's flush half
+    done saw the kept rows grown and the gauge rows not yet)."""
+    limits = [int(f.attrs.get(attr, np.iinfo(np.int64).max))
+              for attr in (layout.COMPLETE_ROWS, layout.COMPLETE_GAUGE_ROWS)]
     plane = int(f.attrs.get(plane_layout.DIMENSION, 1)) == 2
     missing = [k for k in (plane_layout.REQUIRED if plane else layout.REQUIRED) if k not in f]
     bodies = [name for _, name in sorted((f[layout.body_path(n, "x")][0], n)
@@ -340,9 +382,8 @@ def _outline(f):
         names[name] = kind
         if kind in ("series", "table") and not layout.is_events(name):
             (every_slab if layout.every_slab(name) else kept).append(length)
-    counts = [min(lengths + [int(f.attrs.get(attr, np.iinfo(np.int64).max))])
-              if lengths else 0 for lengths, attr in
-              ((kept, layout.COMPLETE_ROWS), (every_slab, layout.COMPLETE_GAUGE_ROWS))]
+    counts = [min(lengths + [limit]) if lengths else 0
+              for lengths, limit in zip((kept, every_slab), limits)]
     return missing, bodies, ncontacts, *counts, names
 
 

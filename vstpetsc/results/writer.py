@@ -164,7 +164,8 @@ class Snapshots:
     """The datasets rewritten with every block (restart state, envelopes),
     each with its attribute ``slab``, through low-level handles kept from
     the first write (h5py's high level costs ~0.2 ms an array, a block
-    writes several)."""
+    writes several).  Every one of them is made before the file goes into
+    SWMR mode (:meth:`reserve`): the blocks only write their data."""
 
     def __init__(self, f):
         self.f, self.handles = f, {}
@@ -180,6 +181,25 @@ class Snapshots:
             dsid, attr, _ = handles
             dsid.write(h5py.h5s.ALL, h5py.h5s.ALL, data)
             attr.write(stamp)
+
+    def reserve(self, state, last=None):
+        """Make the datasets of ``state`` ({name: array}: the restart state
+        the blocks write) before SWMR starts.  A SWMR writer may write
+        data, not make objects: a block that made /solver/rhs_state,
+        newton_state and energy_sums turned /solver's links into a fractal
+        heap, which a reader met half written ("wrong fractal heap header
+        signature").  One absent or of another shape (a restart on another
+        number of ranks) is written now with ``state``, stamped -1 (no
+        state yet: a restart does not take it), or ``last`` when the one it
+        replaces was the state of slab ``last``, which this run continues
+        from."""
+        for name, data in (state or {}).items():
+            data = np.asarray(data)
+            old = self.f.get(name)
+            if old is not None and old.shape == data.shape:
+                continue
+            valid = old is not None and int(old.attrs.get("slab", -1)) == last
+            self.write({name: data}, last if valid else None)
 
     def _dataset(self, name, shape):
         """(dataset id, id of its attribute ``slab``, shape) of snapshot
@@ -209,13 +229,20 @@ class Completed:
     def __init__(self, f):
         self.ids = [count_attr(f.id, name, 0) for name in (COMPLETE_ROWS, COMPLETE_GAUGE_ROWS)]
 
-    def write(self, rows, gauge_rows):
-        """The gauge count first: a reader reads the kept-row count first,
+    def write(self, rows, gauge_rows, flush=None):
+        """The gauge count first, and on disk (``flush``, an HDF5 flush,
+        when there are gauge rows) before the kept-row count is written:
+        HDF5 writes the file's metadata in the order of their addresses,
+        not of the writes, and the two counts may lie in two blocks of the
+        root's attribute heap.  A reader reads the kept-row count first,
         and with both counts only growing it then never meets a kept row
         whose gauge rows are not counted yet (a CI run read kept rows to
-        slab 11680 and gauge rows to 11641 between the two writes)."""
-        for attr, value in zip(self.ids[::-1], (gauge_rows, rows)):
-            attr.write(np.array(value, dtype=np.int64))
+        slab 11680 and gauge rows to 11641)."""
+        kept, gauges = self.ids
+        gauges.write(np.array(gauge_rows, dtype=np.int64))
+        if flush is not None and gauge_rows:
+            flush()
+        kept.write(np.array(rows, dtype=np.int64))
 
 
 class ResultWriter:
@@ -250,21 +277,25 @@ class ResultWriter:
 
     @classmethod
     def create(cls, path, series, statics, groups, attrs, first_row, interval=0.5,
-               snapshots=None, events=(), expected=None):
+               snapshots=None, events=(), expected=None, state=None):
         """A new file: written under a temporary name with ``first_row``
         (its gauge values included, and the ``snapshots`` of t = 0) and the
         empty ``events`` datasets, then renamed to ``path``; InputError if
         it cannot be.  ``expected``: (kept rows, gauge rows) the run writes
-        at most (the first row included), if known."""
+        at most (the first row included), if known.  ``state``: the restart
+        state the blocks will write ({name: array}), whose datasets are made
+        now (:meth:`Snapshots.reserve`)."""
         return _create(cls, path, series, statics, groups, attrs, first_row, interval,
-                       snapshots, events, expected)
+                       snapshots, events, expected, state)
 
     @classmethod
-    def reopen(cls, lock, attrs, interval=0.5, expected=None):
+    def reopen(cls, lock, attrs, interval=0.5, expected=None, state=None, events=None):
         """Append to an existing result file (a restart) whose
         :class:`OutputLock` the caller holds (and hands over); ``expected``
-        as for :meth:`create`."""
-        return _reopen(cls, lock, attrs, interval, expected)
+        and ``state`` as for :meth:`create`; ``events``: {events dataset:
+        rows to keep} (:meth:`EventRows.truncate`), cut before the file
+        goes into SWMR mode."""
+        return _reopen(cls, lock, attrs, interval, expected, state, events)
 
     def append(self, row):
         """Buffer one kept row; ``row`` maps every series name to its value."""
@@ -322,11 +353,12 @@ class ResultWriter:
 
     def _write(self, action, *args):
         """``action(*args)``, an HDF5 flush, the counts of complete rows
-        (:class:`Completed`) and a flush; an HDF5 error breaks the file."""
+        (:class:`Completed`, with a flush between them) and a flush; an
+        HDF5 error breaks the file."""
         try:
             action(*args)
             self.f.flush()
-            self.completed.write(self.n, self._gauge_rows())
+            self.completed.write(self.n, self._gauge_rows(), self.f.flush)
             self.events.complete()
             self.f.flush()
         except (OSError, RuntimeError, ValueError) as exc:
@@ -407,7 +439,7 @@ class ResultWriter:
 
 
 def _create(cls, path, series, statics, groups, attrs, first_row, interval, snapshots,
-            events, expected):
+            events, expected, state):
     """:meth:`ResultWriter.create` (``cls`` the writer's class)."""
     lock = OutputLock(path)
     temp, f, fd, writer = lock.new(), None, None, None
@@ -424,6 +456,7 @@ def _create(cls, path, series, statics, groups, attrs, first_row, interval, snap
                                                       for n in writer.gauges.names])
         writer.flush(snapshots, 0)
         writer.settle()
+        _make_state(writer, state)
         start_swmr(f)          # every object is made: readers may come
         lock.publish(fd)
     except (OSError, RuntimeError, ValueError, OutputFailed) as exc:
@@ -441,7 +474,21 @@ def _create(cls, path, series, statics, groups, attrs, first_row, interval, snap
     return writer
 
 
-def _reopen(cls, lock, attrs, interval, expected):
+def _make_state(writer, state, last=None):
+    """Make the datasets of the restart state the blocks write
+    (:meth:`Snapshots.reserve`) before the file goes into SWMR mode; disk
+    space for them is reserved first (DiskFull), and an HDF5 error breaks
+    the file."""
+    need = sum(np.asarray(a).nbytes for a in (state or {}).values()) + MARGIN
+    writer.reserve.ensure(writer.f.id.get_filesize(), need)
+    try:
+        writer.snapshots.reserve(state, last)
+    except (OSError, RuntimeError, ValueError):
+        writer.broken = True
+        raise
+
+
+def _reopen(cls, lock, attrs, interval, expected, state, events):
     """:meth:`ResultWriter.reopen` (``cls`` the writer's class)."""
     path = lock.path
     try:
@@ -452,12 +499,17 @@ def _reopen(cls, lock, attrs, interval, expected):
         f.attrs["status"] = "running"
         f.attrs["restarts"] = int(f.attrs.get("restarts", 0)) + 1
         writer = cls(f, lock, interval, lock.fd, expected=expected)
-        if writer.gauges:         # the run continues from its last kept slab
-            rows = int(f["solver/slab"][-1]) + 1
-            writer.completed.write(writer.n, min(rows, writer.gauges.n))    # before the cut
+        last = int(f["solver/slab"][-1])      # the run continues from its last kept slab
+        if writer.gauges:
+            writer.completed.write(writer.n, min(last + 1, writer.gauges.n))    # before the cut
             f.flush()
-            writer.gauges.truncate(rows)
+            writer.gauges.truncate(last + 1)
         writer.completed.write(writer.n, writer._gauge_rows())
+        # events of slabs after the last row (a block killed midway) cut and
+        # the restart state's datasets made while SWMR has not started
+        writer.events.truncate(events or {})
+        writer.events.complete()
+        _make_state(writer, state, last)
         f.flush()
         start_swmr(f)          # a file of the older format goes on without
     except (OSError, RuntimeError, ValueError) as exc:
