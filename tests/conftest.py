@@ -53,6 +53,18 @@ def cli(*args, cwd=None, timeout=120):
                           cwd=cwd, timeout=timeout)
 
 
+def run_and_info(tmp_path, case, name):
+    """(the run's last line, `vstpetsc info`'s text, Result) of ``case`` run
+    by the command line."""
+    path = write_case(tmp_path, case, name)
+    out = tmp_path / f"{name}.h5"
+    p = cli("run", path, "-o", out, "--quiet")
+    assert p.returncode == 0, p.stderr
+    info = cli("info", out)
+    assert info.returncode == 0, info.stderr
+    return p.stdout.strip().splitlines()[-1], info.stdout, vstpetsc.Result(str(out))
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)

@@ -13,7 +13,7 @@ import pytest
 
 import faults
 import vstpetsc
-from conftest import bar, cli, make_case, write_case
+from conftest import bar, cli, make_case, run_and_info, write_case
 from vstpetsc import Result
 from vstpetsc.results import layout
 from vstpetsc.results.files import OutputLock
@@ -258,14 +258,8 @@ def resting_on_cushion(initial):
 
 def energy_lines(tmp_path, case, name):
     """(the run's last line, the energy line of `vstpetsc info`, Result)."""
-    path = write_case(tmp_path, case, name)
-    out = tmp_path / f"{name}.h5"
-    p = cli("run", path, "-o", out, "--quiet")
-    assert p.returncode == 0, p.stderr
-    info = cli("info", out)
-    assert info.returncode == 0, info.stderr
-    line = [l for l in info.stdout.splitlines() if l.startswith("  energy: ")]
-    return p.stdout.strip().splitlines()[-1], line[0], Result(out)
+    last, info, r = run_and_info(tmp_path, case, name)
+    return last, [l for l in info.splitlines() if l.startswith("  energy: ")][0], r
 
 
 def test_pressed_cushion_at_rest_loses_nothing(tmp_path):

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from conftest import bar, cli, make_case, solve, write_case
+from conftest import bar, cli, make_case, run_and_info, solve, write_case
 from vstpetsc import energy as energy_mod
 from vstpetsc.errors import SolveFailed
 from vstpetsc.plane import pairs as pairs_mod
@@ -206,17 +206,6 @@ def test_the_limit_is_what_keeps_the_balance(tmp_path, monkeypatch):
 
 
 # ---- (B) and (C): one initial energy; the last line ------------------
-
-def run_and_info(tmp_path, case, name):
-    """(the run's last line, info's text, Result) of ``case`` by the command line."""
-    path = write_case(tmp_path, case, name)
-    out = tmp_path / f"{name}.h5"
-    p = cli("run", path, "-o", out, "--quiet")
-    assert p.returncode == 0, p.stderr
-    info = cli("info", out)
-    assert info.returncode == 0, info.stderr
-    return p.stdout.strip().splitlines()[-1], info.stdout, vstpetsc.Result(str(out))
-
 
 def parsed(line):
     """{initial, end, work, dissipated, numerical, share, peak} of an energy line."""
