@@ -97,6 +97,25 @@ def differences(da, db, skip=SKIPPED):
     return out
 
 
+def unequal(da, db, skip=SKIPPED):
+    """{name: first row that differs} of the datasets of two runs that must
+    agree bit for bit ("shape" where the shapes differ).  Every one is
+    named: the first in name order that carries data, energy/damping,
+    differs whatever diverged, and the rows tell a state that drifted from
+    the start from one that parted at a restart."""
+    out = {}
+    for key in sorted(set(da) | set(db)):
+        x, y = da.get(key), db.get(key)
+        if key in skip:
+            continue
+        if x is None or y is None or x.shape != y.shape:
+            out[key] = "shape"
+        elif not np.array_equal(x, y):
+            rows = (x != y).reshape(x.shape[0], -1).any(axis=1) if x.ndim else [True]
+            out[key] = int(np.argmax(rows))
+    return out
+
+
 def assert_runs_agree(a, b, rtol, iterations=0, skip=SKIPPED):
     """Two result files (or their datasets) of one case by two paths agree
     to ``rtol`` (module docstring); their Newton iteration counts differ by

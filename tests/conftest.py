@@ -104,6 +104,10 @@ def compliance_delay(r, impedance):
 MPI_WORDS = ("mpirun", "mpi=", "mpiexec")
 
 
+# first: pytest-xdist's own hook turns the group marks into the test ids
+# (``@mpi``) that --dist loadgroup deals by, and marks added after it are
+# not seen (the two workers each ran mpirun at once, 4 ranks on 2 cores)
+@pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
     import inspect
 
