@@ -23,7 +23,7 @@ import tempfile
 import numpy as np
 
 import vstpetsc
-from vstpetsc import model as model_mod
+from vstpetsc.line import model as model_mod
 
 E, RHO, L, V0, GAP = 2e11, 7850.0, 1.0, 1.0, 0.001
 C = np.sqrt(E / RHO)

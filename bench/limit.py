@@ -19,9 +19,9 @@ from petsc4py import PETSc
 
 from cases import steel_bar
 from vstpetsc import Case
-from vstpetsc.model import build_model
+from vstpetsc.line.model import build_model
 from vstpetsc.petsc.options import SolverOptions
-from vstpetsc.petsc.slab_solver import SlabSolver
+from vstpetsc.line.solver.slab_solver import SlabSolver
 
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 

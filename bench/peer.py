@@ -23,7 +23,7 @@ import numpy as np
 from petsc4py import PETSc
 
 import vstpetsc
-from vstpetsc.model import build_model, dense, modes
+from vstpetsc.line.model import build_model, dense, modes
 
 
 def bars(*bodies):

@@ -39,7 +39,7 @@ import vstpetsc
 from vstpetsc import bundled
 from vstpetsc.plane.loads import plane_loads
 from vstpetsc.plane.model import PlaneModel
-from vstpetsc.plane.solver import PlaneSolver
+from vstpetsc.plane.solver.slab_solver import PlaneSolver
 
 H_CELL, REPEATS, BATCH, WARM = 1.0, 5, 10, 60
 GENTLE = 0.1            # the shaking that leaves every pair closed and sticking
@@ -67,7 +67,7 @@ def dam_case(friction, h, scale=1.0):
 
 def build(case, options=()):
     from vstpetsc.plane.loads import gravity_pattern
-    from vstpetsc.plane.static import static_state
+    from vstpetsc.plane.solver.static import static_state
 
     opts = PETSc.Options()
     for key, value in options:

@@ -350,7 +350,7 @@ def vst_run(job):
 
     from vstpetsc.plane.loads import plane_loads
     from vstpetsc.plane.model import PlaneModel
-    from vstpetsc.plane.solver import PlaneSolver
+    from vstpetsc.plane.solver.slab_solver import PlaneSolver
 
     case = vst_case(job)
     start = time.perf_counter()

@@ -1,6 +1,6 @@
 """Two ranks against one on plane-strain slabs (issue 37's goal: two ranks
 at least 1.6 times faster than one on a 2e5-cell slab loop): a square of
-quadrilaterals distributed by DMPlex (vstpetsc.plane.distributed), the
+quadrilaterals distributed by DMPlex (vstpetsc.plane.solver.distributed), the
 slab matrix's solve by GMRES with block Jacobi / ILU(0) (the only
 preconditioner here that distributes) and by MUMPS's LU; per slab: the
 right-hand side's products, the solve, the update.  Run under mpirun by
@@ -35,9 +35,9 @@ def child(cells, options):
     from petsc4py import PETSc
 
     from vstpetsc.plane import elements, mesh as plane_mesh
-    from vstpetsc.plane.distributed import distribute, owned_rows
+    from vstpetsc.plane.solver.distributed import distribute, owned_rows
     from vstpetsc.plane import assembly
-    from vstpetsc.plane.stepper import PlaneSlabs
+    from vstpetsc.plane.solver.stepper import PlaneSlabs
 
     comm = PETSc.COMM_WORLD
     n = int(round(np.sqrt(cells)))

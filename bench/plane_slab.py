@@ -1,5 +1,5 @@
 """A free slab of a plane-strain run against its floor (issue 37): the
-whole slab of the run's solver (vstpetsc.plane.solver.PlaneSolver: the
+whole slab of the run's solver (vstpetsc.plane.solver.slab_solver.PlaneSolver: the
 right-hand side's two products, the solve with A's factors, the slab's
 energy terms and the update of u and v) against one application of the
 slab matrix's factors alone (KSP solve), at 1e4 and 1e5 cells (a square
@@ -22,7 +22,7 @@ from petsc4py import PETSc
 import vstpetsc
 from vstpetsc.plane.loads import plane_loads
 from vstpetsc.plane.model import PlaneModel
-from vstpetsc.plane.solver import PlaneSolver
+from vstpetsc.plane.solver.slab_solver import PlaneSolver
 
 REPEATS, BATCH = 5, 10
 

@@ -18,7 +18,7 @@ import time
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc import slab
+from vstpetsc.spacetime import slab
 from vstpetsc.plane import assembly, elements, mesh as plane_mesh
 
 REPEATS = 7

@@ -37,10 +37,10 @@ LONG = 2000                     # slabs of the long run
 TITLE = "## Fixed cost of a run"
 
 # (label, module, attribute path): the phases of a run, as named in the code
-PHASES = [("set-up (model, solver)", "vstpetsc.driver", "TimeLoop.__init__"),
-          ("file created, first row", "vstpetsc.recorder", "Recorder.open"),
-          ("slabs", "vstpetsc.driver", "TimeLoop._loop"),
-          ("last block, file closed", "vstpetsc.recorder", "Recorder.close"),
+PHASES = [("set-up (model, solver)", "vstpetsc.runner.driver", "TimeLoop.__init__"),
+          ("file created, first row", "vstpetsc.runner.recorder", "Recorder.open"),
+          ("slabs", "vstpetsc.runner.driver", "TimeLoop._loop"),
+          ("last block, file closed", "vstpetsc.runner.recorder", "Recorder.close"),
           ("Result opened", "vstpetsc.results.reader", "Result.__init__")]
 
 START = r"""

@@ -39,7 +39,7 @@ COURANTS = {"wave": (2.0, 1.0, 0.5, 0.25, 0.125, 0.0625),
 def site_matrices(elements, mass, folder):
     """Dense M, C, K of the site problem's model."""
     import vstpetsc
-    from vstpetsc import model as model_mod
+    from vstpetsc.line import model as model_mod
 
     doc = waves.case_doc(waves.job_for("site", {"mass": mass}, elements, 1.0), folder)
     return model_mod.dense(model_mod.build_model(vstpetsc.Case.from_dict(doc)).ops, "mck")

@@ -10,7 +10,8 @@ import tempfile
 import numpy as np
 
 import vstpetsc
-from vstpetsc import analysis, bundled
+from vstpetsc.results import analysis
+from vstpetsc import bundled
 from vstpetsc.results.hdf5 import open_to_read
 from vstpetsc.results.plot import plot_result
 
@@ -431,7 +432,7 @@ def _lamb(f, result):
 
 def _crest_spectrum(axis, result, label):
     """The crest gauge's horizontal 5 % response spectrum (psa in g)."""
-    from vstpetsc.spectrum import acceleration
+    from vstpetsc.results.spectrum import acceleration
 
     gauge = result.gauge("crest")
     periods = np.logspace(-2, 1, 120)

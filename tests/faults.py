@@ -16,7 +16,7 @@ import h5py
 import numpy as np
 
 import vstpetsc
-import vstpetsc.toml_text
+import vstpetsc.input.toml_text
 from vstpetsc.results.files import held
 
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
@@ -236,7 +236,7 @@ def simultaneous_sweeps(folder, case, delay=0.0):
     refused = [err for code, err in results if code == 2]
     if refused and (not one_clean_line(refused[0]) or "another sweep" not in refused[0]):
         return False, f"the refused sweep said: {refused[0].strip()}"
-    from vstpetsc.sweep import read_summary
+    from vstpetsc.runner.sweep import read_summary
     _, data = read_summary(os.path.join(out, "summary.csv"))
     statuses = data["status"] + [vstpetsc.Result(os.path.join(out, f)).status
                                  for f in data["file"]]

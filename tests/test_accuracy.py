@@ -10,7 +10,7 @@ import pytest
 import vstpetsc
 from conftest import STEEL, bar, make_case, solve
 
-from vstpetsc import model as model_mod
+from vstpetsc.line import model as model_mod
 
 C = np.sqrt(STEEL["E"] / STEEL["rho"])
 Z = STEEL["rho"] * C

@@ -61,9 +61,9 @@ def test_with_value_builds_the_case_once(monkeypatch):
     check the key, then again), a new table, a misspelled key and a bad
     value; the results and messages as before."""
     case = bar_wall()
-    read = vstpetsc.case.schema.read
+    read = vstpetsc.input.case.schema.read
     calls = []
-    monkeypatch.setattr(vstpetsc.case.schema, "read", lambda *a: calls.append(a) or read(*a))
+    monkeypatch.setattr(vstpetsc.input.case.schema, "read", lambda *a: calls.append(a) or read(*a))
     changes = [("body.bar.v0", 2.0, None), ("body.bar.area", 2.0, None),
                ("body.bar.damping.alpha", 0.5, None),
                ("body.bar.aera", 2.0, "body.bar.aera: unknown key (did you mean 'area'?"),
@@ -87,7 +87,7 @@ def test_case_error_carries_the_cli_messages(tmp_path):
     with pytest.raises(vstpetsc.CaseError) as err:
         vstpetsc.Case.from_dict(doc)
     path = tmp_path / "bad.toml"
-    path.write_text(vstpetsc.case.toml_text.dumps(doc))
+    path.write_text(vstpetsc.input.case.toml_text.dumps(doc))
     p = cli("run", path)
     assert p.returncode == 2
     printed = [line.removeprefix("vstpetsc: error: ") for line in p.stderr.splitlines()]

@@ -6,7 +6,7 @@ setting back."""
 import pytest
 
 import vstpetsc
-from vstpetsc import driver
+from vstpetsc.runner import driver
 
 threadpoolctl = pytest.importorskip("threadpoolctl")
 
@@ -24,7 +24,7 @@ def test_one_blas_thread_inside_and_the_users_setting_after():
 
 
 def test_a_run_solves_on_one_blas_thread(tmp_path, monkeypatch):
-    from vstpetsc.petsc import slab_solver
+    from vstpetsc.line.solver import slab_solver
 
     seen = []
     real = slab_solver.SlabSolver.solve

@@ -1,4 +1,4 @@
-"""The compiled end of a slab on one rank (vstpetsc.native.closing) does
+"""The compiled end of a slab on one rank (vstpetsc.line.native.closing) does
 what the Python path does: u, v, the elongations and their envelopes and
 b += G z bit for bit, the energies to rounding (numpy's dot sums in
 blocks); whole runs are bit for bit but for the energies."""
@@ -8,11 +8,11 @@ import pytest
 from petsc4py import PETSc
 
 from conftest import bar, make_case, solve
-from vstpetsc.energy import EnergyBook
-from vstpetsc.model import build_model
-from vstpetsc.native.closing import SlabClose
+from vstpetsc.runner.energy import EnergyBook
+from vstpetsc.line.model import build_model
+from vstpetsc.line.native.closing import SlabClose
 from vstpetsc.petsc.options import SolverOptions
-from vstpetsc.petsc.slab_solver import SlabSolver
+from vstpetsc.line.solver.slab_solver import SlabSolver
 
 
 def two_bodies():

@@ -9,7 +9,7 @@ from petsc4py import PETSc
 
 import vstpetsc
 from conftest import bar, cli, compliance_delay, make_case, solve, write_case
-from vstpetsc.model import build_model, dense, initial_state
+from vstpetsc.line.model import build_model, dense, initial_state
 
 FORMS = ["seed", "power"]
 NE, DT = 50, 0.01          # h = 0.02 for L = 1: dt = c dt / h = 0.5
@@ -201,7 +201,7 @@ def test_assembled_jacobian_matches_finite_differences(form):
 def two_pair_solver(form, newton="condensed"):
     """A slab solver of two bars (a pair) and a wall (a pair), ready for slab 1."""
     from vstpetsc.petsc.options import SolverOptions
-    from vstpetsc.petsc.slab_solver import SlabSolver
+    from vstpetsc.line.solver.slab_solver import SlabSolver
 
     case = make_case(0.05, 1.0, [bar("a", (0.0, 1.0), 6, E=1.0, rho=1.0, v0=2.0),
                                  bar("b", (1.01, 2.0), 5, E=3.0, rho=1.0, v0=-1.0)],
@@ -229,7 +229,7 @@ def full_residual(s):
 def test_condensed_jacobian_matches_finite_differences(form):
     """The default Newton works on the pairs' reduced coordinates:
     r(y) = y - y0 + S f(y), Jacobian I + S f'(y)."""
-    from vstpetsc.petsc.newton import SnesCondensed
+    from vstpetsc.line.solver.newton import SnesCondensed
 
     s = two_pair_solver(form)
     newton, _ = s.solve(1)

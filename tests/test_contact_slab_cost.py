@@ -10,8 +10,8 @@ import pytest
 from agreement import assert_runs_agree, datasets
 from conftest import bar, make_case, solve
 from vstpetsc import native
-from vstpetsc.laws import penalty
-from vstpetsc.laws.gap import active_intervals, gap_coefficients
+from vstpetsc.line.laws import penalty
+from vstpetsc.kernels.gap import active_intervals, gap_coefficients
 
 pytestmark = pytest.mark.skipif(native.library() is None, reason="kernels not built")
 
@@ -68,7 +68,7 @@ def test_the_slab_is_bound_on_one_rank(tmp_path):
     numpy gather, PETSc product or carry rows in Python)."""
     from petsc4py import PETSc
 
-    from vstpetsc.driver import TimeLoop
+    from vstpetsc.runner.driver import TimeLoop
 
     loop = TimeLoop(held(0.5, slabs=20), str(tmp_path / "r.h5"), PETSc.COMM_WORLD, True,
                     None, None)

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from conftest import assert_tangent
-from vstpetsc.laws.coulomb import friction_integrals, penalty_normal
-from vstpetsc.laws.gap import gap_coefficients
+from vstpetsc.kernels.coulomb import friction_integrals, penalty_normal
+from vstpetsc.kernels.gap import gap_coefficients
 
 DT, KT, MU, N0 = 1e-3, 1e7, 0.5, 1e4
 EY = MU * N0 / KT           # the stretch at the yield under N0

@@ -12,8 +12,8 @@ import numpy as np
 
 from test_coulomb_kernel import DT, EY, KT, MU, N0, SY, bounce, opening, quadratic
 from vstpetsc import native
-from vstpetsc.laws import coulomb
-from vstpetsc.laws.coulomb import friction_integrals
+from vstpetsc.kernels import coulomb
+from vstpetsc.kernels.coulomb import friction_integrals
 
 _D = ctypes.POINTER(ctypes.c_double)
 

@@ -10,7 +10,7 @@ import pytest
 
 import vstpetsc
 from conftest import assert_tangent, bar, cli, make_case, write_case
-from vstpetsc.laws.cushion import cushion_integrals
+from vstpetsc.line.laws.cushion import cushion_integrals
 
 
 def brute(gn, d1, d2, dt, k, ku, M, n=200001):
@@ -98,7 +98,7 @@ def test_bad_cushion_tables(tmp_path, extra, words):
     doc["contact"][0] = {"pair": ["ram", "wall"], "wall": 0.11, "formulation": "cushion",
                          **extra}
     path = tmp_path / "bad.toml"
-    path.write_text(vstpetsc.toml_text.dumps(doc))
+    path.write_text(vstpetsc.input.toml_text.dumps(doc))
     p = cli("run", path, "-o", tmp_path / "r.h5")
     assert p.returncode == 2 and p.stderr.count("\n") == 1 and words in p.stderr, p.stderr
 

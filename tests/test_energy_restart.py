@@ -15,8 +15,9 @@ from conftest import bar, make_case, solve, write_case
 # would reach mpirun's ranks and stop their MPI_Init: the file run alone
 # failed test_restart_on_two_ranks_bit_for_bit)
 from test_parallel import mpirun
-from vstpetsc import bundled, driver
-from vstpetsc import model as model_mod
+from vstpetsc import bundled
+from vstpetsc.runner import driver
+from vstpetsc.line import model as model_mod
 from vstpetsc.errors import Interrupted
 
 EPS = np.finfo(float).eps

@@ -14,9 +14,10 @@ from test_energy_restart import StopAfter, assert_same_files
 # imported before any run of this process starts MPI (its environment
 # would reach mpirun's ranks and stop their MPI_Init)
 from test_parallel import mpirun
-from vstpetsc import bundled, driver
-from vstpetsc.driver import Interrupted
-from vstpetsc.model import build_model
+from vstpetsc import bundled
+from vstpetsc.runner import driver
+from vstpetsc.runner.driver import Interrupted
+from vstpetsc.line.model import build_model
 
 L, V0, G0, DT = 1.0, 1.0, 1.0e-3, 2.0e-6
 C = np.sqrt(STEEL["E"] / STEEL["rho"])

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from vstpetsc import analysis
+from vstpetsc.results import analysis
 from conftest import cli, compliance_delay, solve
 from vstpetsc import bundled
 from vstpetsc.materials import mkz
-from vstpetsc.spectrum import acceleration
+from vstpetsc.results.spectrum import acceleration
 
 # nonlinear-site: the weak intensity (the record's scale: its peak in g; the
 # bundled case has the strong one), and the shortened runs of this file
@@ -602,7 +602,7 @@ def test_dam_modes_oscillate_at_the_eigenfrequencies(results):
     import scipy.linalg
 
     from vstpetsc.plane import assembly
-    from vstpetsc.plane.dmplex import read_gmsh
+    from vstpetsc.plane.solver.dmplex import read_gmsh
 
     r = results["dam-modes"]
     case = r.case()

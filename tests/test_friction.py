@@ -16,7 +16,7 @@ from conftest import bar, make_case, solve
 from references.coulomb_column import column_on_coulomb_base
 from references.sliding_block import newmark
 from test_linear import modal_solution
-from vstpetsc.model import build_model, modes
+from vstpetsc.line.model import build_model, modes
 
 G_ACC, RHO, MU = 9.81, 2400.0, 0.2
 KY = MU * G_ACC                       # the yield acceleration mu g

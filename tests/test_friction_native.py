@@ -3,7 +3,7 @@ friction runs beside its penalty pair in penalty_newton.c, its slab
 integrals coulomb.h's).
 
 What is guaranteed, and why:
-- the Newton is the Python one (vstpetsc.reduced_newton) bit for bit when
+- the Newton is the Python one (vstpetsc.line.reduced_newton) bit for bit when
   both solve the step's dense system the same way: a pair with friction
   is two acting laws, whose 4 x 4 step numpy gives to LAPACK and the C to
   its own Gaussian elimination; with the Python's replaced by that
@@ -28,11 +28,12 @@ from agreement import assert_runs_agree, datasets
 from conftest import bar, make_case, solve
 from test_contact import initial_state
 from test_friction import G_ACC, RHO, block_case, column_case, pulse_velocity
-from vstpetsc import native, reduced_newton
+from vstpetsc import native
+from vstpetsc.line import reduced_newton
 from vstpetsc.errors import SolveFailed
-from vstpetsc.laws.friction import CoulombFriction
-from vstpetsc.model import build_model
-from vstpetsc.reduced_newton import ReducedNewton
+from vstpetsc.line.laws.friction import CoulombFriction
+from vstpetsc.line.model import build_model
+from vstpetsc.line.reduced_newton import ReducedNewton
 
 pytestmark = pytest.mark.skipif(native.library() is None, reason="kernels not built")
 FORMS = ("seed", "power")
@@ -70,7 +71,7 @@ def block_solver(form):
     from petsc4py import PETSc
 
     from vstpetsc.petsc.options import SolverOptions
-    from vstpetsc.petsc.slab_solver import SlabSolver
+    from vstpetsc.line.solver.slab_solver import SlabSolver
 
     case = make_case(0.05, 1.0, [bar("block", (0.0, 1.0), 5, E=1.0, rho=1.0, G=0.5)],
                      contacts=[dict(pair=["wall", "block"], wall=0.0, formulation=form,

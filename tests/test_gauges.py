@@ -113,7 +113,7 @@ def test_bad_gauge_tables_are_named(tmp_path, gauge, key, words):
     doc = c.to_dict()
     doc["gauge"] = [gauge]
     path = tmp_path / "bad.toml"
-    path.write_text(vstpetsc.toml_text.dumps(doc))
+    path.write_text(vstpetsc.input.toml_text.dumps(doc))
     p = cli("run", path, "-o", tmp_path / "r.h5")
     assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
     assert key in p.stderr and words in p.stderr, p.stderr

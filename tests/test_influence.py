@@ -1,5 +1,5 @@
 """The laws' terms go back into the unknowns only where their columns of
-A^-1 are not zero (vstpetsc.petsc.influence): the same numbers as
+A^-1 are not zero (vstpetsc.line.solver.influence): the same numbers as
 PETSc's VecMAXPY over the whole vector."""
 
 import numpy as np
@@ -7,10 +7,10 @@ import pytest
 from petsc4py import PETSc
 
 from conftest import bar, make_case
-from vstpetsc.model import build_model
-from vstpetsc.petsc.influence import groups_of
+from vstpetsc.line.model import build_model
+from vstpetsc.line.solver.influence import groups_of
 from vstpetsc.petsc.options import SolverOptions
-from vstpetsc.petsc.slab_solver import SlabSolver
+from vstpetsc.line.solver.slab_solver import SlabSolver
 
 
 def test_groups_merge_chains_of_overlaps():

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import vstpetsc
-import vstpetsc.toml_text
+import vstpetsc.input.toml_text
 from conftest import ROOT, bar, cli, make_case, write_case
 from faults import one_clean_line
-from vstpetsc import history as hist
+from vstpetsc.spacetime import history as hist
 
 EXAMPLES = os.path.join(ROOT, "vstpetsc", "examples")
 SAMPLES = [0.0, 0.1, -0.2, 0.05]
@@ -31,7 +31,7 @@ def record_case(tmp_path, value):
     case = {"time": {"dt": 0.01, "end": 0.1}, "body": [bar("bar", [0.0, 1.0], 4)],
             "bc": [dict(body="bar", end="left", type="velocity", value=value)]}
     path = tmp_path / "case.toml"
-    path.write_text(vstpetsc.toml_text.dumps(case))
+    path.write_text(vstpetsc.input.toml_text.dumps(case))
     return path
 
 
@@ -120,7 +120,7 @@ def test_numbers_beyond_doubles_are_refused(tmp_path, edit, message):
     doc = small_case()
     edit(doc)
     path = tmp_path / "c.toml"
-    path.write_text(vstpetsc.toml_text.dumps(doc))
+    path.write_text(vstpetsc.input.toml_text.dumps(doc))
     before = sorted(os.listdir(tmp_path))
     refused(tmp_path, path, message)
     assert sorted(os.listdir(tmp_path)) == before          # not even a partial file
@@ -215,7 +215,7 @@ def test_restart_after_a_history_file_changed_is_refused(tmp_path):
 
 def run_cli(tmp_path, doc):
     path = tmp_path / "c.toml"
-    path.write_text(vstpetsc.toml_text.dumps(doc))
+    path.write_text(vstpetsc.input.toml_text.dumps(doc))
     return cli("run", path, "-o", tmp_path / "r.h5", "--quiet")
 
 

@@ -7,11 +7,11 @@ import pytest
 from scipy import integrate
 
 from conftest import bar, make_case
-from vstpetsc import slab
-from vstpetsc.history import History
-from vstpetsc.laws.gap import (closed_on_slab, closed_throughout, gap_coefficients,
-                               pair_integrals, roots01)
-from vstpetsc.model import band_mult, build_model, dense
+from vstpetsc.spacetime import slab
+from vstpetsc.spacetime.history import History
+from vstpetsc.kernels.gap import (closed_on_slab, closed_throughout, gap_coefficients,
+    pair_integrals, roots01)
+from vstpetsc.line.model import band_mult, build_model, dense
 
 
 def two_bodies():

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from conftest import bar, make_case, solve
-from vstpetsc.model import build_model, dense, modes
+from vstpetsc.line.model import build_model, dense, modes
 
 E, RHO, L = 1.0, 1.0, 1.0          # c = 1
 

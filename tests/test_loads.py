@@ -7,7 +7,7 @@ import scipy.optimize
 
 import vstpetsc
 from conftest import bar, cli, make_case, solve, write_case
-from vstpetsc.model import build_model, dense, modes
+from vstpetsc.line.model import build_model, dense, modes
 
 FIXED_LEFT = dict(body="bar", end="left", type="fixed")
 
@@ -234,10 +234,10 @@ def jump_energy(case):
     the energy book)."""
     from petsc4py import PETSc
 
-    from vstpetsc.loading import SlabLoads
-    from vstpetsc.model import band_mult, initial_state
+    from vstpetsc.line.loading import SlabLoads
+    from vstpetsc.line.model import band_mult, initial_state
     from vstpetsc.petsc.options import SolverOptions
-    from vstpetsc.petsc.slab_solver import SlabSolver
+    from vstpetsc.line.solver.slab_solver import SlabSolver
 
     model = build_model(case)
     loads = SlabLoads(model.laws, case.dt)
@@ -424,7 +424,7 @@ def test_bad_input_names_the_key(tmp_path, name, tables, message):
     (tmp_path / "back.csv").write_text("0,1\n1,2\n0.5,3\n")
     doc = {"time": {"dt": 0.1, "end": 1.0}, "body": [unit_bar(4)], **tables}
     path = tmp_path / "case.toml"
-    path.write_text(vstpetsc.toml_text.dumps(doc))
+    path.write_text(vstpetsc.input.toml_text.dumps(doc))
     p = cli("run", path, "-o", tmp_path / "r.h5")
     assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
     lines = p.stderr.strip().splitlines()

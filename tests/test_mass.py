@@ -8,7 +8,7 @@ import pytest
 
 from conftest import bar, make_case
 
-from vstpetsc import model as model_mod
+from vstpetsc.line import model as model_mod
 
 
 def fixed_free(elements, mass):

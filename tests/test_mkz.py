@@ -21,7 +21,8 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from vstpetsc import petsc, toml_text
+from vstpetsc import petsc
+from vstpetsc.input import toml_text
 from conftest import ROOT, cli, solve, write_case
 from faults import one_clean_line
 from references import mkz as ref

@@ -1,5 +1,5 @@
 """The compiled Newton for penalty pairs (vstpetsc.native) repeats the
-Python Newton (vstpetsc.reduced_newton): bit for bit while at most one pair
+Python Newton (vstpetsc.line.reduced_newton): bit for bit while at most one pair
 acts in a slab, to rounding when several do; whole runs are the same."""
 
 import numpy as np
@@ -9,7 +9,7 @@ from conftest import bar, make_case, solve
 from test_contact import FORMS, two_pair_solver
 from vstpetsc import native
 from vstpetsc.errors import SolveFailed
-from vstpetsc.reduced_newton import ReducedNewton
+from vstpetsc.line.reduced_newton import ReducedNewton
 
 
 def test_the_kernel_is_built():

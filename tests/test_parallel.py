@@ -285,7 +285,7 @@ def test_sweep_on_two_ranks_equals_one(tmp_path):
     assert cli("sweep", case, *sets, "-o", tmp_path / "one", "--quiet").returncode == 0
     p = mpirun("sweep", case, *sets, "-o", tmp_path / "two", "--quiet")
     assert p.returncode == 0 and p.stdout.count("sweep:") == 1, p.stderr
-    from vstpetsc.sweep import read_summary
+    from vstpetsc.runner.sweep import read_summary
     one = read_summary(str(tmp_path / "one" / "summary.csv"))
     two = read_summary(str(tmp_path / "two" / "summary.csv"))
     assert one[0] == two[0] and len(one[1]["file"]) == 6
@@ -320,7 +320,7 @@ def test_sweep_with_two_ranks_per_run(tmp_path):
     assert cli("sweep", case, *sets, "-o", tmp_path / "one", "--quiet").returncode == 0
     p = mpirun("sweep", case, *sets, "-o", tmp_path / "two", "--quiet", "--ranks-per-run", "2")
     assert p.returncode == 0 and p.stdout.count("sweep:") == 1, p.stderr
-    from vstpetsc.sweep import read_summary
+    from vstpetsc.runner.sweep import read_summary
     (header, one), (_, two) = (read_summary(str(tmp_path / d / "summary.csv"))
                                for d in ("one", "two"))
     for key in header:
@@ -336,7 +336,7 @@ def test_sweep_on_two_ranks_records_failures_and_skips_completed_runs(tmp_path):
     out = tmp_path / "s"
     p = mpirun("sweep", case, *sets, "-o", out, "--quiet")
     assert p.returncode == 3 and "1 failed" in p.stdout, p.stderr
-    from vstpetsc.sweep import read_summary
+    from vstpetsc.runner.sweep import read_summary
     _, rows = read_summary(str(out / "summary.csv"))
     assert rows["status"] == ["completed", "failed", "completed", "completed"]
     assert "elements" in rows["message"][1]

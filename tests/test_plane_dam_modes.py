@@ -15,7 +15,7 @@ import scipy.sparse.linalg as sla
 
 from vstpetsc.plane import assembly, elements
 from vstpetsc.plane.dam_mesh import dam_mesh
-from vstpetsc.plane.stepper import PlaneSlabs
+from vstpetsc.plane.solver.stepper import PlaneSlabs
 
 H, VS, RHO, NU = 40.0, 300.0, 2000.0, 0.3
 G = RHO * VS ** 2

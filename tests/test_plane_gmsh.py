@@ -1,4 +1,4 @@
-"""Gmsh meshes through PETSc's DMPlex (vstpetsc.plane.dmplex): a file
+"""Gmsh meshes through PETSc's DMPlex (vstpetsc.plane.solver.dmplex): a file
 written here in Gmsh's 2.2 ASCII format (and in 4.1, read alike) from a mesh of our own generator
 (mixed: quadrilaterals below, triangles above, two physical surfaces, two
 physical curves, some cells written clockwise) reads back as the same
@@ -10,7 +10,7 @@ import pytest
 
 from test_plane_matrices import LAM, MU, RHO, one_d_operators, tie
 from vstpetsc.plane import assembly, mesh as plane_mesh
-from vstpetsc.plane.dmplex import read_gmsh
+from vstpetsc.plane.solver.dmplex import read_gmsh
 from vstpetsc.plane.gmsh_file import write_gmsh22
 
 

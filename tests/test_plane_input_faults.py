@@ -440,7 +440,7 @@ def test_an_interface_runs_one_way_whatever_the_cells_order(tmp_path):
     its edges ran each way and the split paired half edges with opposite
     normals.  A curve runs from its lower end to its upper (left to right
     where level): the joint's second side is above it."""
-    from vstpetsc.plane.dmplex import read_gmsh
+    from vstpetsc.plane.solver.dmplex import read_gmsh
     from vstpetsc.plane.interfaces import split_along
 
     m = plane_mesh.rectangle((0.0, 3.0), (0.0, 2.0), 6, 4, joints={"j": 2})

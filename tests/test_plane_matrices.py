@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from conftest import bar, make_case
-from vstpetsc.model import build_model
+from vstpetsc.line.model import build_model
 from vstpetsc.plane import assembly, elements, mesh as plane_mesh
 
 E, NU, RHO = 2.0e8, 0.3, 1800.0

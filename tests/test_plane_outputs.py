@@ -18,7 +18,7 @@ from conftest import ROOT, bar, make_case, solve
 from faults import one_clean_line
 from test_plane_run import DAM
 from vstpetsc import cli as cli_module
-from vstpetsc.spectrum import acceleration, response_spectrum, transfer_function
+from vstpetsc.results.spectrum import acceleration, response_spectrum, transfer_function
 
 VTK_TRIANGLE, VTK_QUAD = 5, 9        # VTK's cell type codes
 H, VS, VP = 20.0, 200.0, 400.0       # the columns: height, wave speeds
@@ -264,7 +264,7 @@ def test_spectrum_of_a_component_is_that_of_its_velocity_column(results, tmp_pat
                                                                 case, component, axis):
     """The P column moves along y only, the S column along x only (its
     sides hold the other component): the spectrum of that component is the
-    one of the gauge's v[:, axis] through vstpetsc.spectrum, the other
+    one of the gauge's v[:, axis] through vstpetsc.results.spectrum, the other
     component's a record of zeros."""
     r = results[case]
     v, dt = r.gauge("top").v, r.attrs["dt"]

@@ -9,7 +9,7 @@ import pytest
 
 from vstpetsc import native
 from vstpetsc.plane import pair_kernels as pk
-from vstpetsc.slab import HK
+from vstpetsc.spacetime.slab import HK
 
 DT = 1e-3
 

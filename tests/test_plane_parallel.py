@@ -1,4 +1,4 @@
-"""A plane-strain mesh distributed by DMPlex (vstpetsc.plane.distributed)
+"""A plane-strain mesh distributed by DMPlex (vstpetsc.plane.solver.distributed)
 on 1, 2 and 3 ranks (quadrilaterals, triangles, and the mixed dam
 section): each rank's owned rows of M and K are the serial matrices'
 (their products with a field, vertex by vertex), the regions' areas and
@@ -21,8 +21,8 @@ import numpy as np
 from petsc4py import PETSc
 from vstpetsc.plane import assembly, elements, mesh as plane_mesh
 from vstpetsc.plane.dam_mesh import dam_mesh
-from vstpetsc.plane.distributed import distribute, matrices, owned_rows
-from vstpetsc.plane.stepper import PlaneSlabs
+from vstpetsc.plane.solver.distributed import distribute, matrices, owned_rows
+from vstpetsc.plane.solver.stepper import PlaneSlabs
 
 comm = PETSc.COMM_WORLD
 mpi = comm.tompi4py()

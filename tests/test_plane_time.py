@@ -1,4 +1,4 @@
-"""v-ST/FEM slabs with plane-strain M and K (vstpetsc.plane.stepper, the
+"""v-ST/FEM slabs with plane-strain M and K (vstpetsc.plane.solver.stepper, the
 1-D time algebra in sparse form): third order in time on a genuinely 2-D
 problem, triangles and quadrilaterals, against the semi-discrete solution
 of the same M, K computed here from their eigenvectors; energy is
@@ -9,7 +9,7 @@ import pytest
 import scipy.linalg
 
 from vstpetsc.plane import assembly, elements, mesh as plane_mesh
-from vstpetsc.plane.stepper import PlaneSlabs
+from vstpetsc.plane.solver.stepper import PlaneSlabs
 
 E, NU, RHO = 2.0e8, 0.3, 1800.0
 LAM, MU = elements.lame(E, NU)

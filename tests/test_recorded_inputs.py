@@ -14,7 +14,7 @@ import pytest
 import vstpetsc
 from conftest import bar, cli, make_case, solve, write_case
 from faults import one_clean_line
-from vstpetsc import history as hist
+from vstpetsc.spacetime import history as hist
 
 # -- the analytic piecewise quadratic ---------------------------------------
 

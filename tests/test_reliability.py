@@ -18,6 +18,7 @@ import faults
 from conftest import bar, cli, make_case, write_case
 from test_case import GOOD
 from vstpetsc import Result
+from vstpetsc.input import toml_text
 from vstpetsc import cli as vcli
 
 
@@ -81,10 +82,10 @@ def test_output_is_the_case_file(tmp_path):
     assert p.returncode == 2 and faults.one_clean_line(p.stderr) and "input file" in p.stderr
     doc = faults.long_case(end=0.1).to_dict()
     doc["output"]["path"] = "case.toml"
-    (tmp_path / "other.toml").write_text(__import__("vstpetsc").toml_text.dumps(doc))
+    (tmp_path / "other.toml").write_text(toml_text.dumps(doc))
     p = cli("run", tmp_path / "other.toml")            # another case file: not a result
     assert p.returncode == 2 and faults.one_clean_line(p.stderr) and "not a vstpetsc" in p.stderr
-    (tmp_path / "self.toml").write_text(__import__("vstpetsc").toml_text.dumps(
+    (tmp_path / "self.toml").write_text(toml_text.dumps(
         {**doc, "output": {"path": "self.toml"}}))
     p = cli("run", tmp_path / "self.toml")
     assert p.returncode == 2 and "input file" in p.stderr
@@ -97,7 +98,7 @@ def test_output_is_the_case_file(tmp_path):
 def test_unusable_output_paths(tmp_path, output, message):
     doc = faults.long_case(end=0.1).to_dict()
     doc["output"]["path"] = output.replace("{tmp}", str(tmp_path))
-    (tmp_path / "c.toml").write_text(__import__("vstpetsc").toml_text.dumps(doc).replace(
+    (tmp_path / "c.toml").write_text(toml_text.dumps(doc).replace(
         "\\\\u0001", "\\u0001"))
     p = cli("run", tmp_path / "c.toml")
     assert p.returncode == 2 and faults.one_clean_line(p.stderr) and message in p.stderr, p.stderr
@@ -109,7 +110,7 @@ def test_names_that_cannot_be_group_names(tmp_path, name):
     case = make_case(0.1, 1.0, [bar("ok", (0.0, 1.0), 2)]).to_dict()
     case["body"].append({**case["body"][0], "name": name, "x": [2.0, 3.0]})
     path = tmp_path / "c.toml"
-    path.write_text(__import__("vstpetsc").toml_text.dumps(case))
+    path.write_text(toml_text.dumps(case))
     p = cli("run", path)
     assert p.returncode == 2 and faults.one_clean_line(p.stderr) and "body[1]" in p.stderr
 
@@ -143,7 +144,7 @@ def test_hostile_values(tmp_path, edit, message):
     doc = faults.long_case(end=0.1).to_dict()
     edit(doc)
     path = tmp_path / "c.toml"
-    path.write_text(__import__("vstpetsc").toml_text.dumps(doc))
+    path.write_text(toml_text.dumps(doc))
     p = cli("run", path)
     assert p.returncode == 2 and faults.one_clean_line(p.stderr) and message in p.stderr, p.stderr
 
@@ -169,7 +170,7 @@ def test_linear_solver_failures_name_where(tmp_path):
     assert not (tmp_path / "r.h5").exists()
     free = faults.long_case(end=0.1).to_dict()
     del free["contact"]
-    (tmp_path / "free.toml").write_text(__import__("vstpetsc").toml_text.dumps(free))
+    (tmp_path / "free.toml").write_text(toml_text.dumps(free))
     p = cli("run", tmp_path / "free.toml", "-o", tmp_path / "f.h5", "-ksp_type", "gmres",
             "-pc_type", "jacobi", "-ksp_max_it", "1")
     assert p.returncode == 3 and faults.one_clean_line(p.stderr) and "slab 1:" in p.stderr

@@ -206,7 +206,7 @@ def tied(m, s, pairs):
 
 
 def test_the_bundled_file_is_the_generators(rock, tmp_path):
-    from vstpetsc.plane.dmplex import read_gmsh
+    from vstpetsc.plane.solver.dmplex import read_gmsh
     from vstpetsc.plane.gmsh_file import write_gmsh22
 
     bundled = os.path.join(os.path.dirname(__file__), "..", "vstpetsc", "examples",

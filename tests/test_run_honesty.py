@@ -17,7 +17,7 @@ import pytest
 
 import vstpetsc
 from conftest import bar, cli, make_case, run_and_info, solve, write_case
-from vstpetsc import energy as energy_mod
+from vstpetsc.runner import energy as energy_mod
 from vstpetsc.errors import SolveFailed
 from vstpetsc.plane import pairs as pairs_mod
 

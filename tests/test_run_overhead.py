@@ -44,7 +44,7 @@ def loaded_after(code):
     """The sorted modules of interest loaded by ``code`` in a new process."""
     code += ("; import sys; print(sorted(m for m in sys.modules if m.split('.')[0] in "
              "('matplotlib', 'scipy', 'h5py', 'petsc4py', 'mpi4py', 'threadpoolctl') or "
-             "m in ('vstpetsc.driver', 'vstpetsc.case', 'vstpetsc.results.reader')))")
+             "m in ('vstpetsc.runner.driver', 'vstpetsc.input.case', 'vstpetsc.results.reader')))")
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True).stdout.strip()
 
@@ -55,11 +55,11 @@ def test_import_loads_no_heavy_module():
 
 
 def test_public_names_load_on_demand():
-    assert loaded_after("import vstpetsc; vstpetsc.Case") == "['vstpetsc.case']"
-    assert "'vstpetsc.driver'" in loaded_after("from vstpetsc import run")
+    assert loaded_after("import vstpetsc; vstpetsc.Case") == "['vstpetsc.input.case']"
+    assert "'vstpetsc.runner.driver'" in loaded_after("from vstpetsc import run")
     for name in vstpetsc.__all__:
         assert name in dir(vstpetsc) and getattr(vstpetsc, name) is not None
-    assert vstpetsc.sweep.__module__ == "vstpetsc.sweep"      # the function, not the module
+    assert vstpetsc.sweep.__module__ == "vstpetsc.runner.sweep"      # the function, not the module
     assert vstpetsc.results.reader.Result is vstpetsc.Result   # submodules as before
     with pytest.raises(AttributeError):
         vstpetsc.no_such_name

@@ -9,7 +9,8 @@ import pytest
 import vstpetsc
 from conftest import bar, cli, make_case, write_case
 from faults import one_clean_line
-from vstpetsc import CaseError, toml_text
+from vstpetsc import CaseError
+from vstpetsc.input import toml_text
 
 RHO, VS = 2000.0, 200.0
 

@@ -21,7 +21,7 @@ import pytest
 
 import vstpetsc
 from conftest import bar, cli, make_case, solve
-from vstpetsc.sweep import quantities, read_summary
+from vstpetsc.runner.sweep import quantities, read_summary
 
 MKZ = {"model": "mkz", "gamma_ref": 1.0e-4, "beta": 1.0, "s": 0.9}
 B_PULSE = "bc.1.value"

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from vstpetsc.model import build_model
+from vstpetsc.line.model import build_model
 from conftest import cli, make_case, solve, write_case
 from test_energy_restart import assert_same_files
 

@@ -9,7 +9,7 @@ import vstpetsc
 from conftest import cli
 from references.sliding_block import rigid_block
 from vstpetsc import bundled
-from vstpetsc.sweep import read_summary
+from vstpetsc.runner.sweep import read_summary
 
 FRICTIONS = [0.1, 0.15, 0.2]
 FRICTION_KEY = "contact.0.friction"

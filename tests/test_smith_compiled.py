@@ -15,8 +15,8 @@ from conftest import bar, make_case, solve
 from agreement import assert_runs_agree, datasets
 from vstpetsc import native
 from vstpetsc import bundled
-from vstpetsc.laws.smith import smith_integrals
-from vstpetsc.native import smith_slab
+from vstpetsc.kernels.smith import smith_integrals
+from vstpetsc.line.native import smith_slab
 
 pytestmark = pytest.mark.skipif(native.library() is None, reason="kernels not built")
 
@@ -54,7 +54,7 @@ def test_one_node_equals_the_python_integrals(rng):
 def test_one_cushion_equals_the_python_integrals(rng):
     """Loading from the start or inside, unloading on the slab's earlier or
     later M, letting go, with the spans where it pushes."""
-    from vstpetsc.laws.cushion import cushion_integrals
+    from vstpetsc.line.laws.cushion import cushion_integrals
 
     lib = native.library()
     kinds = set()
@@ -195,7 +195,7 @@ def test_the_compiled_gauge_row_equals_the_python_one(tmp_path, monkeypatch):
     probe give the same series bit for bit (the same operations; a run on
     several ranks uses the probe)."""
     from test_gauges import case as gauge_case
-    from vstpetsc.native import gauge_row
+    from vstpetsc.line.native import gauge_row
 
     a = solve(tmp_path, gauge_case(end=1.0), "g-c")
     monkeypatch.setattr(gauge_row.GaugeRow, "of", classmethod(lambda cls, *args: None))

@@ -11,7 +11,7 @@ from scipy.integrate import solve_ivp
 
 import vstpetsc
 from conftest import assert_tangent, bar, cli, make_case
-from vstpetsc.laws.smith import smith_integrals
+from vstpetsc.kernels.smith import smith_integrals
 
 
 def brute(wn, p, y1, y2, dt, k, Ru, J, toe, n=20001):
@@ -152,7 +152,7 @@ def test_bad_soil_tables(tmp_path, change, words):
     doc = blow().to_dict()
     doc["soil"][0].update(change)
     path = tmp_path / "bad.toml"
-    path.write_text(vstpetsc.toml_text.dumps(doc))
+    path.write_text(vstpetsc.input.toml_text.dumps(doc))
     p = cli("run", path, "-o", tmp_path / "r.h5")
     assert p.returncode == 2 and p.stderr.count("\n") == 1 and words in p.stderr, p.stderr
 
@@ -189,7 +189,7 @@ def test_static_start_settles_the_pile_on_its_soil(tmp_path):
 def test_batch_evaluation_equals_one_by_one(rng):
     """SoilNode.force_batch (smooth slabs in numpy, the rest one by one)
     gives each node's force() to rounding, and leaves the same state."""
-    from vstpetsc.laws.soil import SoilNode
+    from vstpetsc.line.laws.soil import SoilNode
 
     laws = []
     for i in range(60):

@@ -15,7 +15,7 @@ import vstpetsc
 from conftest import bar, cli, make_case, solve
 from faults import one_clean_line
 from vstpetsc import InputError, cli as cli_module
-from vstpetsc.spectrum import acceleration, konno_ohmachi
+from vstpetsc.results.spectrum import acceleration, konno_ohmachi
 
 PERIODS = np.array([0.02, 0.1, 0.37, 1.0, 4.0, 10.0])
 

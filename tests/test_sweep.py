@@ -11,7 +11,7 @@ import pytest
 
 import vstpetsc
 from conftest import bar, cli, make_case, write_case
-from vstpetsc.sweep import quantities, read_summary
+from vstpetsc.runner.sweep import quantities, read_summary
 
 
 def wall_case():
@@ -84,7 +84,7 @@ def test_sweep_plot_and_bad_arguments(tmp_path):
 @pytest.mark.parametrize("text, value", [("1", 1), ("2.5e-3", 2.5e-3), ("power", "power"),
                                          ('"seed"', "seed"), ("true", True)])
 def test_setting_values_read_as_toml(text, value):
-    from vstpetsc.sweep import parse_setting
+    from vstpetsc.runner.sweep import parse_setting
     assert parse_setting(f"contact.0.x={text}") == ("contact.0.x", [value])
     assert np.isscalar(parse_setting(f"k={text},{text}")[1][1])
 

@@ -15,10 +15,10 @@ import vstpetsc
 from conftest import bar, cli, make_case, write_case
 from test_parallel import mpirun as parallel_mpirun
 from test_sweep import wall_case
-from vstpetsc import sweep_folder
+from vstpetsc.runner import sweep_folder
 from vstpetsc.errors import InputError
-from vstpetsc.sweep import quantities, read_summary
-from vstpetsc.sweep_folder import LOCK
+from vstpetsc.runner.sweep import quantities, read_summary
+from vstpetsc.runner.sweep_folder import LOCK
 
 needs_mpirun = pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
 
@@ -127,7 +127,7 @@ def test_the_lock_file_goes_when_a_sweep_ends(tmp_path, monkeypatch):
 
     def broken(*args):
         raise RuntimeError("disk gone")
-    monkeypatch.setattr(sys.modules["vstpetsc.sweep"], "run_one", broken)
+    monkeypatch.setattr(sys.modules["vstpetsc.runner.sweep"], "run_one", broken)
     with pytest.raises(RuntimeError, match="disk gone"):
         vstpetsc.sweep(wall_case(), {"body.bar.v0": [4.0]}, str(tmp_path / "t"))
     assert os.listdir(tmp_path / "t") == []
@@ -213,7 +213,7 @@ def test_mpirun_sweep_error_in_one_ranks_run_ends_every_rank(tmp_path):
     script.write_text(
         "import sys, vstpetsc\n"
         "from vstpetsc import petsc\n"
-        "sw = sys.modules['vstpetsc.sweep']    # vstpetsc.sweep is the function\n"
+        "sw = sys.modules['vstpetsc.runner.sweep']    # vstpetsc.sweep is the function\n"
         "real = sw.run_one\n"
         "def broken(*args):\n"
         "    if petsc.rank() == 1:\n"

@@ -15,7 +15,7 @@ from conftest import ROOT, cli, write_case
 from test_parallel import mpirun
 from test_sweep import wall_case
 from vstpetsc import Result
-from vstpetsc.sweep import read_summary
+from vstpetsc.runner.sweep import read_summary
 
 needs_mpirun = pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
 
@@ -25,7 +25,7 @@ needs_mpirun = pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpi
 SCRIPT = """
 import json, os, sys, time, vstpetsc
 from vstpetsc import petsc
-sw = sys.modules['vstpetsc.sweep']    # vstpetsc.sweep is the function
+sw = sys.modules['vstpetsc.runner.sweep']    # vstpetsc.sweep is the function
 real = sw.run_one
 ran, inside = [], [0.0, 0.0]
 

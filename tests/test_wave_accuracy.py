@@ -11,7 +11,7 @@ import os
 
 import vstpetsc
 from references import waves
-from vstpetsc import model as model_mod
+from vstpetsc.line import model as model_mod
 
 
 def run(tmp_path, doc):

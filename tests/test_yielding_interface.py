@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from vstpetsc import toml_text
+from vstpetsc.input import toml_text
 from conftest import bar, cli, make_case, solve, write_case
 from agreement import SKIPPED, assert_runs_agree, datasets
 from faults import one_clean_line

@@ -17,9 +17,9 @@ import importlib
 import importlib.util
 
 from vstpetsc.errors import CaseError, InputError, Interrupted, SolveFailed
-# here, not on demand: the module vstpetsc.sweep has the function's name,
-# and importing the module later would make vstpetsc.sweep the module
-from vstpetsc.sweep import sweep
+# here, not on demand: the package has a function named sweep (the module
+# is vstpetsc.runner.sweep)
+from vstpetsc.runner.sweep import sweep
 from vstpetsc.version import __version__
 
 # The other public names and their modules, imported when first asked for
@@ -27,9 +27,9 @@ from vstpetsc.version import __version__
 # every module of the package, h5py and scipy included, which `vstpetsc
 # --help` and every tool that only imports the package paid); the first
 # ``vstpetsc.run`` loads what a run needs, once per process.
-_PUBLIC = {"Case": "vstpetsc.case", "RunInfo": "vstpetsc.driver", "run": "vstpetsc.driver",
-           "Result": "vstpetsc.results.reader", "response_spectrum": "vstpetsc.spectrum",
-           "transfer_function": "vstpetsc.spectrum"}
+_PUBLIC = {"Case": "vstpetsc.input.case", "RunInfo": "vstpetsc.runner.driver", "run": "vstpetsc.runner.driver",
+           "Result": "vstpetsc.results.reader", "response_spectrum": "vstpetsc.results.spectrum",
+           "transfer_function": "vstpetsc.results.spectrum"}
 
 __all__ = ["Case", "CaseError", "InputError", "Interrupted", "Result", "RunInfo",
            "SolveFailed", "response_spectrum", "run", "sweep", "transfer_function",

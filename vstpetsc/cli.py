@@ -9,7 +9,7 @@ import os
 import shutil
 import sys
 
-from vstpetsc.checker import INT64
+from vstpetsc.input.checker import INT64
 
 USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [--dry-run]
                     [--restart RESULT.h5] [PETSc options ...]
@@ -178,7 +178,7 @@ def _command(command, rest):
 
 
 def _run(rest):
-    from vstpetsc.case import Case
+    from vstpetsc.input.case import Case
     from vstpetsc.results.files import path_problem as output_problem
 
     ours, petsc_args = split_args(rest)
@@ -215,8 +215,8 @@ def _dry_run(case, out_path):
     if case.plane is not None:
         from vstpetsc.plane.model import summary
         return summary(case, out_path)
-    from vstpetsc.driver import describe_model
-    from vstpetsc.model import build_model
+    from vstpetsc.runner.driver import describe_model
+    from vstpetsc.line.model import build_model
     return describe_model(case, build_model(case), out_path)
 
 
@@ -394,7 +394,7 @@ def _export(rest):
 
 def _sweep(rest):
     import vstpetsc
-    from vstpetsc.sweep import parse_setting
+    from vstpetsc.runner.sweep import parse_setting
 
     ours, petsc_args = split_args(rest)
     settings, others = {}, []
@@ -548,7 +548,7 @@ def _report(opts, columns, draw, lines):
 
 def _spectrum(rest):
     from vstpetsc.results import plot, seismic
-    from vstpetsc.spectrum import damping_problem, response_spectrum
+    from vstpetsc.results.spectrum import damping_problem, response_spectrum
 
     opts = parse_options(rest, ["result"], valued=SEISMIC + ("--gauge", "--damping", "--periods"))
     result = _result(opts, "spectrum")
@@ -566,7 +566,7 @@ def _spectrum(rest):
 
 def _transfer(rest):
     from vstpetsc.results import plot, seismic
-    from vstpetsc.spectrum import bandwidth_problem, fourier_amplitude, transfer_function
+    from vstpetsc.results.spectrum import bandwidth_problem, fourier_amplitude, transfer_function
 
     opts = parse_options(rest, ["result"], valued=SEISMIC + ("--from", "--to", "--smooth"))
     result = _result(opts, "transfer")

@@ -13,7 +13,7 @@ hysteretic function of the strain.  The protocol beside the boundary laws:
 Only the registry here knows the models by name; nothing imports PETSc.
 """
 
-from vstpetsc.checker import show
+from vstpetsc.input.checker import show
 from vstpetsc.materials import mkz
 from vstpetsc.materials.soil import HystereticSoil
 
@@ -67,7 +67,7 @@ def covers(chk, body, where):
 
 def check_alone(chk, bodies, contacts, soils):
     """A hysteretic soil's Newton on the whole slab hosts contact pairs and
-    friction (vstpetsc.petsc.hosted_laws) but not Smith soil, whose
+    friction (vstpetsc.line.solver.hosted_laws) but not Smith soil, whose
     compiled slab keeps its laws' state itself: a case takes a shear_law or
     [[soil]] (reported on the first body with a shear_law)."""
     first = next((i for i, b in enumerate(bodies) if b is not None and b.shear_law), None)

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vstpetsc.checker import show
-from vstpetsc.history import History
+from vstpetsc.input.checker import show
+from vstpetsc.spacetime.history import History
 
 NAME = "mkz"
 PARAMETERS = ("gamma_ref", "beta", "s")

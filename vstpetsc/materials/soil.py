@@ -1,7 +1,7 @@
 """A hysteretic shear field: the elements of the bodies with a
 ``shear_law``, their Masing state, the slab integrals of the stress beyond
 the linear one, and what they report (stress, strain envelope, energy).
-Pure numpy; :mod:`vstpetsc.petsc.material_newton` solves the slab with it.
+Pure numpy; :mod:`vstpetsc.line.solver.material_newton` solves the slab with it.
 """
 
 import numpy as np

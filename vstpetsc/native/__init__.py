@@ -1,12 +1,12 @@
 """Compiled kernels: the plain Newton for penalty contact pairs and their
 Coulomb friction in C (penalty_newton.c, coulomb.h), the same operations as
-:class:`vstpetsc.reduced_newton.ReducedNewton` so that from the same
+:class:`vstpetsc.line.reduced_newton.ReducedNewton` so that from the same
 start its answer is the Python one (bit for bit while at most one law
 acts at a time; a pair with friction is two); and a whole slab of the pairs in one call
 (:class:`PenaltySlab`, the default), whose products with small matrices
 are plain loops instead of numpy's BLAS, so a run agrees with the Python
 one to rounding.  The end of a slab (slab_close.c, on each rank's nodes)
-is in :mod:`vstpetsc.native.closing`, the copies of a kept row
+is in :mod:`vstpetsc.line.native.closing`, the copies of a kept row
 (row_copier.c) in :mod:`vstpetsc.native.rows`.
 
 `make install` builds ``libvstnative.so`` next to this file with the
@@ -21,10 +21,10 @@ import os
 
 import numpy as np
 
-from vstpetsc.laws.coulomb import FrictionSlab
-from vstpetsc.laws.friction import CoulombFriction
-from vstpetsc.laws.penalty import PenaltyContact
-from vstpetsc.reduced_newton import not_converged
+from vstpetsc.kernels.coulomb import FrictionSlab
+from vstpetsc.line.laws.friction import CoulombFriction
+from vstpetsc.line.laws.penalty import PenaltyContact
+from vstpetsc.line.reduced_newton import not_converged
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LIBRARY = os.environ.get("VSTPETSC_NATIVE_LIB") or os.path.join(HERE, "libvstnative.so")
@@ -143,7 +143,7 @@ class Frictions:
 
 
 class NativeNewton:
-    """:class:`~vstpetsc.reduced_newton.ReducedNewton` for penalty pairs,
+    """:class:`~vstpetsc.line.reduced_newton.ReducedNewton` for penalty pairs,
     its iteration in C; after :meth:`solve` the LawSet's ``f`` and every
     pair's ``last`` integrals are those of the last evaluation."""
 

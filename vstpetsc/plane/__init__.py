@@ -2,7 +2,7 @@
 whose domain is a cross-section, beside the 1-D room of bodies on a line.
 
 What both geometries share stays where it is (the time algebra in
-vstpetsc.slab, the histories, the time loop in vstpetsc.driver, the
+vstpetsc.spacetime.slab, the histories, the time loop in vstpetsc.runner.driver, the
 recorder, the writer, the energy book, the CLI); this package holds the
 2-D tables (``schema``), the mesh and its sources (``mesh``, ``dam_mesh``,
 ``rockfill_mesh``, ``dmplex``, ``gmsh_file``), the element matrices vectorised over every

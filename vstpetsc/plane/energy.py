@@ -12,7 +12,7 @@ Stresses at the cells' centres, sigma_xx, sigma_yy, sigma_xy.  Pure numpy."""
 
 import numpy as np
 
-from vstpetsc import energy as shared
+from vstpetsc.runner import energy as shared
 from vstpetsc.plane import elements
 
 

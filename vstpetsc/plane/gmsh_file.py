@@ -1,4 +1,4 @@
-"""A PlaneMesh written as a Gmsh 2.2 ASCII file (what vstpetsc.plane.dmplex
+"""A PlaneMesh written as a Gmsh 2.2 ASCII file (what vstpetsc.plane.solver.dmplex
 reads back through PETSc): its curves as physical curve groups and its
 regions as physical surface groups, by name.  For the bundled examples'
 meshes (docs/make_example_meshes.py) and the tests.  Pure Python."""

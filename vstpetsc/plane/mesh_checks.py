@@ -10,7 +10,7 @@ import os
 
 import numpy as np
 
-from vstpetsc.checker import name_problem
+from vstpetsc.input.checker import name_problem
 
 # PETSc here has 32-bit indices: the slab matrix (4 unknowns a node, about
 # 150 nonzeros a node) stays below 2^31 nonzeros up to about 1.4e7 nodes

@@ -1,6 +1,6 @@
 """A plane-strain model of a case (interface.md, "Plane strain (2-D)"):
 the mesh as read or generated on rank 0 (the result file's numbering),
-distributed by DMPlex (vstpetsc.plane.distributed), each cell's material
+distributed by DMPlex (vstpetsc.plane.solver.distributed), each cell's material
 from its region, and each rank's rows of M, C, K with the boundaries'
 dashpots, held dofs and load patterns (vstpetsc.plane.curves).
 
@@ -14,7 +14,8 @@ import os
 import numpy as np
 
 from vstpetsc.errors import InputError
-from vstpetsc.plane import assembly, curves, distributed, elements
+from vstpetsc.plane import assembly, curves, elements
+from vstpetsc.plane.solver import distributed
 
 OVERLAP = 0.1       # an interface's starting overlap against its cells' size
 
@@ -35,7 +36,8 @@ def read_mesh(spec):
 
 
 def _built_mesh(spec):
-    from vstpetsc.plane import dam_mesh, dmplex, mesh
+    from vstpetsc.plane import dam_mesh, mesh
+    from vstpetsc.plane.solver import dmplex
 
     if spec.kind == "rectangle":
         p = spec.params

@@ -1,7 +1,7 @@
 """The slab terms of every interface node pair at once (interface.md,
 [[interface]]): along each pair's normal the 1-D penalty pair
-(vstpetsc.laws.gap.pair_integrals), along its tangent, with friction, the
-1-D Coulomb slab kernel (vstpetsc.laws.coulomb.friction_integrals) whose
+(vstpetsc.kernels.gap.pair_integrals), along its tangent, with friction, the
+1-D Coulomb slab kernel (vstpetsc.kernels.coulomb.friction_integrals) whose
 limit follows that normal force: the power penalty's N = k max(0, -g)
 inside the slab, the seed's slab mean.
 
@@ -16,8 +16,8 @@ import ctypes
 import numpy as np
 
 from vstpetsc.errors import SolveFailed
-from vstpetsc.laws.coulomb import friction_integrals, penalty_normal
-from vstpetsc.laws.gap import gap_coefficients, pair_integrals
+from vstpetsc.kernels.coulomb import friction_integrals, penalty_normal
+from vstpetsc.kernels.gap import gap_coefficients, pair_integrals
 
 OUT = 18
 F_N, W_N, F_T, W_T = slice(0, 2), slice(2, 6), slice(6, 8), slice(8, 12)

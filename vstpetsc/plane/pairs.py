@@ -29,11 +29,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vstpetsc.laws import friction as friction_law
-from vstpetsc.laws.penalty import DEFAULT_BETA
+from vstpetsc.line.laws import friction as friction_law
+from vstpetsc.line.laws.penalty import DEFAULT_BETA
 from vstpetsc.plane import pair_kernels as pk
 from vstpetsc.results.plane_layout import PAIR_SERIES as SERIES
-from vstpetsc.slab import HK
+from vstpetsc.spacetime.slab import HK
 
 CROSS_STEP = 1e-7
 ROUNDING = 1e-12

@@ -9,8 +9,8 @@ import math
 import os
 from dataclasses import dataclass, field
 
-from vstpetsc.checker import is_number, name_problem, show
-from vstpetsc.history import History
+from vstpetsc.input.checker import is_number, name_problem, show
+from vstpetsc.spacetime.history import History
 
 ONE_D = ("body", "contact", "bc", "soil")
 TOP = ("time", "output", "units", "gravity", "gauge", "mesh", "region", "boundary", "interface")

@@ -48,7 +48,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from vstpetsc.gauges import SERIES as GAUGE_SERIES, SHEAR
+from vstpetsc.line.gauges import SERIES as GAUGE_SERIES, SHEAR
 from vstpetsc.plane.schema import COMPONENTS
 from vstpetsc.results import layout, plane_layout
 

@@ -15,8 +15,8 @@ their names from here.
 
 import numpy as np
 
-from vstpetsc import energy as energy_mod
-from vstpetsc.gauges import Gauges
+from vstpetsc.runner import energy as energy_mod
+from vstpetsc.line.gauges import Gauges
 
 TIME = "time"
 BODY = "body"
@@ -48,7 +48,7 @@ COMPLETE_GAUGE_ROWS = "complete_gauge_rows"
 
 
 def gauges(model):
-    """The model's gauges (:class:`vstpetsc.gauges.Gauges`)."""
+    """The model's gauges (:class:`vstpetsc.line.gauges.Gauges`)."""
     return Gauges(model)
 
 

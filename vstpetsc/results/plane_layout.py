@@ -12,7 +12,7 @@ functions for the recorder, the writer and the restart:
 
 import numpy as np
 
-from vstpetsc import energy as energy_mod
+from vstpetsc.runner import energy as energy_mod
 from vstpetsc.results.layout import ENERGY, SOLVER, TIME
 
 PAIR_SERIES = ("gap", "normal_force", "shear_force", "slip", "stretch")

@@ -10,8 +10,8 @@ that import matplotlib."""
 import numpy as np
 
 from vstpetsc.results import layout
-from vstpetsc.results.figure_parts import energy_panel, labelled as _labelled, \
-    pyplot as _pyplot, units
+from vstpetsc.results.figure_parts import (energy_panel, labelled as _labelled, pyplot as _pyplot,
+    units)
 from vstpetsc.results.layout import text
 from vstpetsc.results.reader import Result
 
@@ -161,7 +161,7 @@ def gauge_panel(ax, r, u, profiles=None):
 def spectrum_panel(ax, r, u, profiles=None):
     """The 5 % response spectrum (psa) of the top gauge (largest x)."""
     from vstpetsc.results import seismic
-    from vstpetsc.spectrum import response_spectrum
+    from vstpetsc.results.spectrum import response_spectrum
 
     name = seismic.top_gauge(r)
     g = r.gauge(name)
@@ -253,7 +253,7 @@ def plot_sweep(path, out, x=None, y=None):
     import matplotlib.pyplot as plt
 
     from vstpetsc.errors import InputError
-    from vstpetsc.sweep import read_summary
+    from vstpetsc.runner.sweep import read_summary
 
     header, data = read_summary(path)
     if x is None and y is None and "blow_count_0" in header and "capacity" in header[0]:

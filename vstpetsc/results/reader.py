@@ -331,7 +331,7 @@ class Result(PlaneParts, FileReads):
     def case(self):
         """The Case that produced the file (its text; relative file names
         refer to the folder the case was read from)."""
-        from vstpetsc.case import Case
+        from vstpetsc.input.case import Case
         a = self.attrs
         return Case.from_text(a["case"], source=f"{self.path}:case", folder=a.get("case_folder"))
 
@@ -481,7 +481,7 @@ class Group:
 class GaugeGroup(Group):
     """A gauge's group; ``.time`` the slab ends its rows belong to;
     ``.acceleration`` and ``.shear_acceleration`` the derivatives of its
-    ``v`` and ``shear_v`` (:func:`vstpetsc.spectrum.acceleration`)."""
+    ``v`` and ``shear_v`` (:func:`vstpetsc.results.spectrum.acceleration`)."""
 
     @property
     def name(self):
@@ -501,12 +501,12 @@ class GaugeGroup(Group):
         ``v`` (one-sided at the first and last); on a plane-strain gauge
         (``v`` (n, 2)) the (n, 2) accelerations a_x, a_y, each column
         from its own velocity component."""
-        from vstpetsc.spectrum import acceleration
+        from vstpetsc.results.spectrum import acceleration
         return acceleration(self.v, self.dt)
 
     @property
     def shear_acceleration(self):
         """The shear acceleration at the slab ends, from ``shear_v`` as
         :attr:`acceleration` (AttributeError without a shear component)."""
-        from vstpetsc.spectrum import acceleration
+        from vstpetsc.results.spectrum import acceleration
         return acceleration(self.shear_v, self.dt)

@@ -1,7 +1,7 @@
 """The seismic outputs of a result file (docs/seismic-outputs.md): a gauge's
 acceleration by component, the response spectrum and transfer function
 tables and their one-screen summaries, and the peak profiles over x that
-`vstpetsc plot` draws.  Pure numpy (the spectra: vstpetsc.spectrum)."""
+`vstpetsc plot` draws.  Pure numpy (the spectra: vstpetsc.results.spectrum)."""
 
 import numpy as np
 
@@ -95,8 +95,8 @@ def element_modulus(result, body, shear):
     result's case as the run meshed it; None if the case cannot be read
     (a moved result whose input files are gone)."""
     from vstpetsc.errors import CaseError, InputError
-    from vstpetsc.model import build_mesh
-    from vstpetsc.shear import field_bodies
+    from vstpetsc.line.model import build_mesh
+    from vstpetsc.line.shear import field_bodies
 
     try:
         case = result.case()

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from vstpetsc.energy import DISSIPATED, HELD
+from vstpetsc.runner.energy import DISSIPATED, HELD
 from vstpetsc.results import layout
 from vstpetsc.results.layout import text
 

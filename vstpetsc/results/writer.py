@@ -29,8 +29,7 @@ from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.results import layout
 from vstpetsc.results.blocks import BlockThread
 from vstpetsc.results.files import DiskFull, DiskReserve, OutputLock
-from vstpetsc.results.hdf5 import (Grown, Growing, count_attr, open_to_write, set_attrs,
-                                   start_swmr)
+from vstpetsc.results.hdf5 import Grown, Growing, count_attr, open_to_write, set_attrs, start_swmr
 from vstpetsc.results.layout import COMPLETE_GAUGE_ROWS, COMPLETE_ROWS
 
 BUFFER_VALUES = 1 << 20          # doubles per series buffer (8 MB; two of them with a thread)
@@ -53,7 +52,7 @@ def unclosable():
 
 
 class GaugeStream:
-    """The series written every slab (the gauges, :mod:`vstpetsc.gauges`):
+    """The series written every slab (the gauges, :mod:`vstpetsc.line.gauges`):
     one buffer of rows, a column per dataset, written with the kept rows'
     blocks (or alone when it is full)."""
 

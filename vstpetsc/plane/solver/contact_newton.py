@@ -1,0 +1,179 @@
+"""Newton on a plane-strain slab's unknowns with interface pairs, its
+steps by GMRES (``-vst_contact_steps krylov``; the default, Newton on the
+pairs' coordinates, is vstpetsc.plane.solver.pair_newton).
+
+The slab's equations with the pairs' terms, R(X) = A X - r + E f(E^T X)
+= 0, are solved on the full slab unknowns: with A_c = A + E W_c E^T (every
+pair closed and sticking: springs, vstpetsc.plane.pairs) factored once in
+place of A, R(X) = A_c X - r + E (f - W_c y) and the Newton matrix is
+J = A_c + E (f'(y) - W_c) E^T.  Each step solves J dX = -R by GMRES
+preconditioned with A_c's solver (FGMRES when that is itself a Krylov
+method); J is applied matrix-free (A_c's product and the pairs' 4 x 4
+blocks).  Pairs that stay closed and sticking add nothing to J - A_c: a
+slab where every pair does is linear and its step is one solve with A_c
+(no Krylov iteration), the welded mesh's cost.  Only pairs that open or
+slide make GMRES iterate, each iteration one more solve with A_c: its
+work grows with the distinct ways the pairs change (bench/README.md,
+"Many pairs": it wins on long uniform interfaces, loses on a dam's).
+
+Full steps for the first FULL_STEPS iterations, then halved while the
+residual's norm does not fall.  Converged when |R| <= RTOL (|r| +
+|A_c X|) (2-norms).
+
+The pairs' kernels run on rank 0: their unknowns are gathered there by
+one PETSc scatter and their terms added back by its reverse (on one rank,
+numpy indexing).  A held dof keeps its identity row: a pair's term there
+is part of the reaction (``held_work``)."""
+
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc.errors import SolveFailed
+
+RTOL = 1e-12
+MAX_IT = 60
+FULL_STEPS = 12
+HALVINGS = 20
+
+
+class PairDofs:
+    """The pairs' slab unknowns z (m, 8) of the global slab vector: the
+    first node's (x: T1, T2; y: T1, T2), then the second node's."""
+
+    def __init__(self, comm, global_dofs, held):
+        """``global_dofs`` (m, 8) global slab indices (every rank: rank 0's
+        matter); ``held`` the held ones (m, 8), whose identity rows take
+        no pair term (the pair's force there is a reaction)."""
+        self.comm, self.rank0 = comm, comm.getRank() == 0
+        self.index, self.held = global_dofs, held
+        self.free = ~held
+        self.m = global_dofs.shape[0]
+        if comm.getSize() == 1:
+            self.scatter = None
+            return
+        n = 8 * self.m if self.rank0 else 0
+        self.pairs_vec = PETSc.Vec().createMPI((n, 8 * self.m), comm=comm)
+        self.source = None
+        idx = global_dofs.ravel() if self.rank0 else np.zeros(0, dtype=int)
+        self._is = PETSc.IS().createGeneral(idx.astype(PETSc.IntType), comm=comm)
+        self.scatter = None
+
+    def bind(self, vec):
+        """Scatter set-up against the layout of the slab vector ``vec``."""
+        if self.comm.getSize() == 1 or self.scatter is not None:
+            return
+        self.scatter = PETSc.Scatter().create(vec, self._is, self.pairs_vec, None)
+
+    def gather(self, vec):
+        """z (m, 8) on rank 0 (None elsewhere)."""
+        if self.scatter is None:
+            return vec.getArray(readonly=True)[self.index]
+        self.scatter.scatter(vec, self.pairs_vec, addv=PETSc.InsertMode.INSERT,
+                             mode=PETSc.ScatterMode.FORWARD)
+        return self.pairs_vec.getArray(readonly=True).reshape(-1, 8).copy() \
+            if self.rank0 else None
+
+    def add(self, values, vec):
+        """vec += E-entries ``values`` (m, 8) (rank 0's) at the free dofs."""
+        if self.scatter is None:          # setValues: PETSc sees the change (cached norms)
+            vec.setValues(self.index.ravel().astype(PETSc.IntType),
+                          (values * self.free).ravel(), addv=PETSc.InsertMode.ADD)
+            vec.assemble()
+            return
+        if self.rank0:
+            self.pairs_vec.setArray((values * self.free).ravel())
+        else:
+            self.pairs_vec.setArray(np.zeros(0))
+        self.scatter.scatter(self.pairs_vec, vec, addv=PETSc.InsertMode.ADD,
+                             mode=PETSc.ScatterMode.REVERSE)
+
+
+class HeldWork:
+    """The work at held dofs of a Newton's last pairs' terms (``values``,
+    E's entries of f - W_c y, at the pairs' unknowns ``z``)."""
+
+    def held_work(self):
+        """Rank 0: the slab's work of the pairs' terms beyond A_c's springs
+        at held dofs (a part of their reactions' work)."""
+        if self.values is None or not self.dofs.held.any():
+            return 0.0
+        return float((self.values * self.dofs.held * self.z).sum())
+
+
+class ContactNewton(HeldWork):
+    """Newton for the slabs of ``A_c`` (its solver ``inner``, set up) with
+    ``pairs`` (a PairSet: kernels and state on rank 0) at ``dofs``."""
+
+    def __init__(self, A_c, inner, pairs, dofs, comm):
+        self.A_c, self.inner, self.pairs, self.dofs, self.comm = A_c, inner, pairs, dofs, comm
+        self.rank0 = comm.getRank() == 0
+        self.R, self.dx = A_c.createVecLeft(), A_c.createVecLeft()
+        self.trial = A_c.createVecLeft()
+        dofs.bind(self.R)
+        from vstpetsc.plane.solver.newton_steps import KrylovSteps
+        self.steps = KrylovSteps(self)
+        self.blocks = self.values = self.z = None
+        self.linear = True
+        self.krylov = 0
+
+    def _residual(self, b, x, R):
+        """R = A_c x - b + E (f - W_c y) at x (the kernels evaluated
+        there); returns |R|."""
+        self.A_c.mult(x, R)
+        self.ax_norm = R.norm()
+        R.axpy(-1.0, b)
+        z = self.dofs.gather(x)
+        values = None
+        linear = True
+        if z is not None:
+            self.pairs.evaluate(z)
+            values, *blocks = self.pairs.difference()
+            linear = max(float(np.abs(b).max(initial=0.0)) for b in blocks) <= \
+                self.pairs.rounding
+            self.blocks = blocks
+        self.dofs.add(values, R)
+        self.values, self.z = values, z
+        self.linear = self.comm.tompi4py().bcast(linear, root=0)
+        return R.norm()
+
+    def solve(self, b, x, k):
+        """x solves the slab of right-hand side b, from x's start (slab k
+        for messages); returns (Newton iterations, Krylov iterations)."""
+        self.krylov = 0
+        scale = b.norm()
+        norm = self._residual(b, x, self.R)
+        for it in range(MAX_IT + 1):
+            if norm <= RTOL * (scale + self.ax_norm):
+                return it, self.krylov
+            if it == MAX_IT:
+                break
+            self._step()
+            norm = self._line(b, x, norm, it)
+        raise SolveFailed(f"slab {k}: the interfaces' Newton did not converge in {MAX_IT} "
+                          f"iterations (|R| = {norm:.3g})")
+
+    def _step(self):
+        """dx = -J^{-1} R: one solve with A_c when every pair is linear,
+        else GMRES's (vstpetsc.plane.solver.newton_steps.KrylovSteps)."""
+        self.R.scale(-1.0)
+        if self.linear:
+            self.inner.solve(self.R, self.dx)
+            self.krylov += max(1, self.inner.getIterationNumber())
+        else:
+            self.krylov += self.steps.solve(self.R, self.dx)
+        self.R.scale(-1.0)
+
+    def _line(self, b, x, norm, it):
+        """x + dx: full steps for the first FULL_STEPS iterations (a pair
+        that starts or stops sliding or touching moves the residual far
+        from its Newton model, and halving there crawls), then halved
+        while |R| does not fall; the new |R|."""
+        step = 1.0
+        for _ in range(1 if it < FULL_STEPS else HALVINGS):
+            self.trial.waxpy(step, self.dx, x)
+            new = self._residual(b, self.trial, self.R)
+            if new < norm:
+                break
+            step *= 0.5
+        self.trial.copy(x)              # the kernels' last evaluation is at x
+        return new

@@ -1,0 +1,181 @@
+"""A plane-strain mesh distributed over the ranks by PETSc's DMPlex, and
+its matrices assembled in parallel.
+
+DMPlex partitions the cells (with an overlap of one cell, so that each
+rank holds every cell around the vertices it owns) and numbers the
+vertices globally, each rank owning a contiguous range.  A rank computes
+the element matrices of all its cells at once (vstpetsc.plane.elements)
+and keeps the entries of the rows it owns: every such row is then whole,
+and the rank's rows go to PETSc's parallel AIJ in one CSR call (no loop
+over cells, no communication in the assembly).  The unknowns are
+(v_x, v_y) of each vertex in DMPlex's global numbering.
+
+The DMPlex is built from the mesh's cells on rank 0 (any mix of
+triangles and quadrilaterals), its regions and curves as labels that
+migrate with the cells."""
+
+from dataclasses import dataclass
+
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc.plane import assembly
+from vstpetsc.plane.solver.dmplex import _cells
+from vstpetsc.plane.mesh import PlaneMesh
+
+
+@dataclass
+class LocalMesh:
+    """What a rank holds: its cells (those it owns first, then the
+    overlap; ``owned_cells`` marks its own), their vertices' coordinates,
+    each local vertex's global number, the rank's range of owned global
+    vertices."""
+
+    mesh: PlaneMesh
+    global_vertex: np.ndarray
+    owned: np.ndarray
+    owned_cells: np.ndarray
+    start: int
+    stop: int
+    size: int
+    comm: object
+    original: np.ndarray = None
+
+
+def plex(mesh, comm, curve_names):
+    """The DMPlex of ``mesh`` (given on rank 0; the other ranks start
+    empty), interpolated, with its coordinates, a label "region" on the
+    cells and a label per curve on its edges, so that both move with
+    the cells when DMPlex distributes them.  Any mix of triangles and
+    quadrilaterals (cones set cell by cell: set-up only)."""
+    rank0 = comm.getRank() == 0
+    nc, nv = (mesh.ncells, mesh.nnodes) if rank0 else (0, 0)
+    dm = PETSc.DMPlex().create(comm=comm)
+    dm.setDimension(2)
+    dm.setChart(0, nc + nv)
+    corners = (mesh.cells >= 0).sum(axis=1) if rank0 else np.zeros(0, dtype=int)
+    for c in range(nc):
+        dm.setConeSize(c, int(corners[c]))
+    dm.setUp()
+    cones = (mesh.cells + nc).astype(PETSc.IntType) if rank0 else None
+    for c in range(nc):
+        dm.setCone(c, cones[c, :corners[c]])
+    dm.symmetrize()
+    dm.stratify()
+    dm.interpolate()
+    _coordinates(dm, mesh.coordinates if rank0 else np.zeros((0, 2)), comm)
+    dm.createLabel("region")
+    for c in range(nc):
+        dm.setLabelValue("region", c, int(mesh.region[c]))
+    for name in curve_names:              # (every rank has every label)
+        dm.createLabel(name)
+        for a, b in (mesh.curves[name] + nc if rank0 else ()):
+            dm.setLabelValue(name, int(dm.getJoin([int(a), int(b)])[0]), 1)
+    return dm
+
+
+def _coordinates(dm, xy, comm):
+    """Vertex coordinates (2 per vertex) into the DM."""
+    v0, v1 = dm.getDepthStratum(0)
+    section = PETSc.Section().create(comm=comm)
+    section.setNumFields(1)
+    section.setFieldComponents(0, 2)
+    section.setChart(v0, v1)
+    for v in range(v0, v1):
+        section.setDof(v, 2)
+        section.setFieldDof(v, 0, 2)
+    section.setUp()
+    dm.setCoordinateDim(2)
+    dm.getCoordinateDM().setSection(section)
+    vec = PETSc.Vec().createWithArray(np.ascontiguousarray(xy, dtype=float).ravel(),
+                                      comm=PETSc.COMM_SELF)
+    vec.setBlockSize(2)
+    dm.setCoordinatesLocal(vec)
+
+
+def distribute(mesh, comm, overlap=1, names=None):
+    """The LocalMesh of each rank from ``mesh`` (read on rank 0; ignored
+    elsewhere) with DMPlex's partition; ``names``: the regions' and the
+    curves' names (every rank's; default rank 0's mesh's, broadcast)."""
+    rank = comm.getRank()
+    if comm.getSize() == 1:        # nothing to distribute: the mesh as it is
+        every = np.arange(mesh.nnodes)
+        return LocalMesh(mesh, every, np.ones(mesh.nnodes, dtype=bool),
+                         np.ones(mesh.ncells, dtype=bool), 0, mesh.nnodes, mesh.nnodes, comm,
+                         every)
+    if names is None:
+        names = comm.tompi4py().bcast(
+            (mesh.region_names, tuple(mesh.curves)) if rank == 0 else None, root=0)
+    dm = plex(mesh, comm, names[1])
+    p0, p1 = dm.getChart()
+    point = np.arange(p0, p1, dtype=PETSc.IntType)     # rank 0's points as read
+    cells0 = mesh.ncells if rank == 0 else 0
+    if comm.getSize() > 1:
+        point = _migrated(dm.distribute(overlap=overlap), point, dm.getChart())
+    local, _ = _cells(dm)
+    v0, v1 = dm.getDepthStratum(0)
+    original = comm.tompi4py().bcast(cells0, root=0)
+    original = (point[v0:v1] - original).astype(np.int64)
+    xy = dm.getCoordinatesLocal().getArray().reshape(-1, 2)
+    numbers = dm.getVertexNumbering().getIndices()
+    owned = numbers >= 0
+    global_vertex = np.where(owned, numbers, -numbers - 1)
+    counts = comm.tompi4py().allgather(int(owned.sum()))
+    start = int(sum(counts[:rank]))
+    region, curves = _local_groups(dm, local.shape[0], len(names[0]), names[1])
+    lm = PlaneMesh(np.ascontiguousarray(xy), local, region, names[0], curves)
+    # a rank's ghost points are the leaves of DMPlex's point SF
+    c0, c1 = dm.getHeightStratum(0)
+    owned_cells = np.ones(c1 - c0, dtype=bool)
+    leaves = dm.getPointSF().getGraph()[1] if comm.getSize() > 1 else None
+    if leaves is not None and len(leaves):
+        leaves = np.asarray(leaves)
+        owned_cells[leaves[(leaves >= c0) & (leaves < c1)] - c0] = False
+    return LocalMesh(lm, global_vertex, owned, owned_cells, start, start + counts[rank],
+                     sum(counts), comm, original)
+
+
+def _migrated(sf, root, chart):
+    """Each distributed point's number before distribution (the migration
+    SF carries rank 0's numbers to the points they became)."""
+    from mpi4py import MPI
+
+    leaf = -np.ones(chart[1] - chart[0], dtype=PETSc.IntType)
+    unit = MPI.INT if np.dtype(PETSc.IntType).itemsize == 4 else MPI.INT64_T
+    sf.bcastBegin(unit, root, leaf, MPI.REPLACE)
+    sf.bcastEnd(unit, root, leaf, MPI.REPLACE)
+    return leaf
+
+
+def _local_groups(dm, ncells, nregions, curve_names):
+    """(each local cell's region, {curve: its local edges (m, 2)})."""
+    region = np.zeros(ncells, dtype=int)
+    # (a stratum with no point on this rank has no index set: asked first)
+    for r in range(nregions):
+        if dm.getStratumSize("region", r):
+            region[dm.getStratumIS("region", r).getIndices()] = r
+    v0, _ = dm.getDepthStratum(0)
+    curves = {}
+    for name in curve_names:
+        edges = dm.getStratumIS(name, 1).getIndices() if dm.getStratumSize(name, 1) else []
+        if len(edges):
+            curves[name] = np.array([dm.getCone(e) for e in edges], dtype=np.int64) - v0
+    return region, curves
+
+
+def owned_rows(local, blocks):
+    """The rank's rows (its owned vertices' dofs) of the sum of element
+    matrices [(cells, Ke)], as CSR (2 owned, 2 size) in global columns."""
+    return assembly.assemble(local.mesh, blocks, local.global_vertex,
+                             (local.start, local.stop), local.size)
+
+
+def matrices(local, lam, mu, rho, mass="averaged"):
+    """(M, K) as parallel AIJ on the ranks' owned rows."""
+    from vstpetsc.plane import elements
+
+    parts = assembly.element_matrices(local.mesh, lam, mu, rho)
+    to_mass = elements.MASSES[mass]
+    K = owned_rows(local, [(cells, Ke) for cells, Ke, _ in parts.values()])
+    M = owned_rows(local, [(cells, to_mass(Me)) for cells, _, Me in parts.values()])
+    return assembly.petsc_matrix(M, local.comm), assembly.petsc_matrix(K, local.comm)

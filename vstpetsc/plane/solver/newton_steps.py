@@ -1,0 +1,139 @@
+"""The two ways a slab with interfaces is solved, J = A_c + E D E^T the
+Newton matrix (D the pairs' blocks f'(y) - W_c, 4 x 4 per pair, zero for
+a pair closed and sticking), A_c factored once:
+
+- "dense" (default up to DENSE_PAIRS pairs): Newton on the pairs'
+  coordinates (vstpetsc.plane.solver.pair_newton) with their coupling
+  S = E^T A_c^-1 E (4m x 4m, rank 0's), each pair's four columns formed
+  by four solves with A_c the first time it opens or slides
+  (``Coupling``), the columns A_c^-1 E kept (each rank its rows, up to
+  COLUMNS_BYTES): its iterations need no solve with A_c.
+- "krylov": Newton on the slab's unknowns (vstpetsc.plane.solver.contact_newton)
+  whose steps are GMRES on J applied matrix-free (A_c's product and the
+  blocks), preconditioned by A_c's solver (FGMRES when that is itself
+  iterative): nothing formed, but each iteration is a solve with A_c,
+  and a pair that slides or opens changes J in rank 2 to 4, so the
+  iterations grow with the pairs that change (bench/README.md).
+
+``-vst_contact_steps dense|krylov`` picks one (``kind``)."""
+
+import numpy as np
+from petsc4py import PETSc
+
+DENSE_PAIRS = 1000
+
+
+def kind(pairs):
+    """"dense" or "krylov": the option's, else dense up to DENSE_PAIRS."""
+    from vstpetsc.errors import InputError
+
+    chosen = PETSc.Options().getString("vst_contact_steps",
+                                       "dense" if pairs.m <= DENSE_PAIRS else "krylov")
+    if chosen not in ("dense", "krylov"):
+        raise InputError(f"-vst_contact_steps: {chosen!r} is not dense or krylov")
+    return chosen
+# the columns A_c^-1 E (every rank its rows) are kept up to this many bytes a
+# rank: a step then needs one solve with A_c, not two
+COLUMNS_BYTES = 2 ** 30
+
+
+def _land():
+    from mpi4py import MPI
+    return MPI.LAND
+
+
+def _pair_vector(pairs, j):
+    """E e_j on the pairs' dofs (m, 8): coordinate j = 4 p + (d1, d2, q1, q2)."""
+    f = np.zeros((pairs.m, 4))
+    f[j // 4, j % 4] = 1.0
+    return pairs.to_dofs(f)
+
+
+class Coupling:
+    """The pairs' coupling S = E^T A_c^-1 E (4m x 4m, rank 0's) and the
+    columns A_c^-1 E (each rank its rows, when they fit in COLUMNS_BYTES
+    a rank; else ``Z`` is None), formed a pair at a time (4 solves with
+    A_c) the first time a pair leaves the closed, sticking state: a pair
+    that never does costs nothing (collective)."""
+
+    def __init__(self, A_c, inner, pairs, dofs, comm):
+        self.inner, self.pairs, self.dofs, self.comm = inner, pairs, dofs, comm
+        self.u, self.v = A_c.createVecLeft(), A_c.createVecLeft()
+        self.rank0 = comm.getRank() == 0
+        n = 4 * pairs.m
+        self.S = np.zeros((n, n)) if self.rank0 else None
+        local = self.u.getLocalSize()
+        keep = comm.tompi4py().allreduce(local * n * 8 <= COLUMNS_BYTES, op=_land())
+        self.Z = np.zeros((n, local)) if keep else None     # rows: contiguous picks
+        self.known = np.zeros(pairs.m, dtype=bool)
+        self.solves = 0
+
+    def ensure(self, wanted):
+        """Form the columns of the pairs ``wanted`` (rank 0's list; every
+        rank calls) not formed yet."""
+        wanted = self.comm.tompi4py().bcast(wanted, root=0)
+        new = [int(p) for p in np.unique(wanted) if not self.known[p]]
+        for j in (4 * p + c for p in new for c in range(4)):
+            self.v.zeroEntries()
+            self.dofs.add(_pair_vector(self.pairs, j) if self.rank0 else None, self.v)
+            self.inner.solve(self.v, self.u)
+            if self.Z is not None:
+                self.Z[j] = self.u.getArray(readonly=True)
+            z = self.dofs.gather(self.u)
+            if self.rank0:
+                self.S[:, j] = self.pairs.coordinates(z).ravel()
+        self.known[new] = True
+        self.solves += 4 * len(new)
+
+
+class _Jacobian:
+    """J = A_c + E D E^T, matrix-free (petsc4py's python Mat)."""
+
+    def __init__(self, newton):
+        self.newton = newton
+
+    def mult(self, mat, x, y):
+        nw = self.newton
+        nw.A_c.mult(x, y)
+        z = nw.dofs.gather(x)
+        values = nw.pairs.apply_difference(z, *nw.blocks) if z is not None else None
+        nw.dofs.add(values, y)
+
+
+class _Preconditioner:
+    """A_c's own solver as GMRES's preconditioner (petsc4py's python PC)."""
+
+    def __init__(self, inner):
+        self.inner = inner
+
+    def apply(self, pc, x, y):
+        self.inner.solve(x, y)
+
+
+class KrylovSteps:
+    """GMRES steps preconditioned by A_c's solver (options prefix
+    ``vst_contact_``)."""
+
+    def __init__(self, newton):
+        nw = newton
+        J = PETSc.Mat().createPython(nw.A_c.getSizes(), context=_Jacobian(nw), comm=nw.comm)
+        J.setUp()
+        self.ksp = PETSc.KSP().create(comm=nw.comm)
+        self.ksp.setOptionsPrefix("vst_contact_")
+        self.ksp.setOperators(J)
+        self.ksp.setType("gmres" if nw.inner.getType() == "preonly" else "fgmres")
+        self.ksp.setTolerances(rtol=1e-12, atol=0.0, max_it=1000)
+        self.ksp.setGMRESRestart(200)
+        pc = self.ksp.getPC()
+        pc.setType("python")
+        pc.setPythonContext(_Preconditioner(nw.inner))
+        self.ksp.setFromOptions()
+
+    def solve(self, R, dx):
+        from vstpetsc.errors import SolveFailed
+
+        self.ksp.solve(R, dx)
+        if self.ksp.getConvergedReason() < 0:
+            raise SolveFailed(f"the interfaces' Newton step did not converge "
+                              f"({self.ksp.getConvergedReason()})")
+        return self.ksp.getIterationNumber()

@@ -1,0 +1,291 @@
+"""The slab solver of a plane-strain run, with the protocol of the 1-D
+SlabSolver that the shared time loop and recorder use (``rhs``,
+``solve``, ``advance``, ``set_state``, ``gather_state``, ``totals``,
+``restart``, ``describe``, ``space``).
+
+Each slab in the plain algebra of formulation.md: r from (u^n, v^{n-})
+by two parallel products (M v, K u), A x = r + int T_a f dt solved with A
+factored once (with interfaces: A_c, the interfaces closed and sticking,
+and Newton, vstpetsc.plane.solver.contact_newton) (vstpetsc.plane.solver.stepper's linear solver, options prefix
+``vst_plane_``), u^{n+1} = u^n + dt/2 (v^1 + v^2).  Held dofs have
+identity rows carrying their prescribed (v^1, v^2).  The energy terms of
+each slab are summed per rank (docs/loads.md section 4): the dashpots'
+and Rayleigh's int v^T C v dt, the loads' work and, at moving held dofs,
+the reactions' work (A x - r on their rows)."""
+
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc.spacetime import slab
+from vstpetsc.errors import SolveFailed
+from vstpetsc.line.solver.space import Space
+from vstpetsc.plane.assembly import identity_rows, petsc_matrix
+from vstpetsc.plane.solver.stepper import linear_solver
+from vstpetsc.results import layout
+
+SUMS = ("damping", "external", "contact", "friction")
+
+
+class PlaneSpace(Space):
+    """The collective helpers of Space on ``comm``, without a DMDA."""
+
+    def __init__(self, comm):
+        self.comm = comm
+
+
+class NoLaws:
+    """A plane-strain run has no nonlinear laws yet (issue 38)."""
+
+    def finish_slab(self, t0, dt):
+        pass
+
+
+class PlaneSolver:
+    serial = property(lambda self: self.comm.getSize() == 1)
+    native = False
+
+    def __init__(self, model, dt, comm, loads):
+        self.model, self.dt, self.comm, self.loads = model, dt, comm, loads
+        self.space = PlaneSpace(comm)
+        self.laws = NoLaws()
+        M, C, K = model.matrices()
+        first = model.first
+        springs = model.closed_springs()        # interfaces: A_c = A + dt^2 HK (x) springs
+        A = slab.sparse_slab_matrix(M, C, K if springs is None else K + springs, dt)
+        held = loads.held
+        self.rows = (2 * held[:, None] + np.arange(2)).ravel()
+        self.M, self.K = petsc_matrix(M, comm), petsc_matrix(K, comm)
+        self.C = None if C is None else petsc_matrix(C, comm)
+        # the unconstrained rows' product gives the reactions of moving held
+        # dofs (on every rank when any rank has some: petsc_matrix is collective)
+        from mpi4py import MPI
+        moving = comm.tompi4py().allreduce(not loads.all_fixed, op=MPI.LOR)
+        self.A_free = petsc_matrix(A, comm) if moving else None
+        self.ax = None if self.A_free is None else self.A_free.createVecLeft()
+        self.A = petsc_matrix(identity_rows(A, self.rows, 4 * first), comm)
+        del A
+        model.release_matrices()
+        self.courant = model.courant(dt)
+        self.ksp = linear_solver(self.A, comm, self.courant)
+        self.x, self.b = self.A.createVecs()
+        self.mv, self.ku = self.M.createVecs()
+        self.v_vec, self.u_vec = self.M.createVecs()
+        self.c1, self.c2 = self.M.createVecs()
+        n = M.shape[0]
+        self.u, self.v = np.zeros(n), np.zeros(n)
+        self.sums = np.zeros(len(SUMS))
+        self.forces = None
+        self._products_fresh = False
+        self.restart = PlaneRestart(self)
+        self.to_rank0 = gather_to_rank0(model, comm)
+        self.pairs = model.pairs
+        self.newton = None if self.pairs is None else self._newton(comm)
+
+    def _newton(self, comm):
+        """The interfaces' Newton on A_c: on the pairs' coordinates
+        (vstpetsc.plane.solver.pair_newton), or on the slab's unknowns with GMRES
+        steps (contact_newton), newton_steps.kind."""
+        from vstpetsc.plane.solver.contact_newton import ContactNewton, PairDofs
+        from vstpetsc.plane.solver.newton_steps import kind
+        from vstpetsc.plane.solver.pair_newton import PairNewton
+
+        nodes = self.pairs.global_nodes
+        index = (2 * (2 * nodes[:, :, None, None] + np.arange(2)[:, None])
+                 + np.arange(2)).reshape(-1, 8)
+        held = comm.tompi4py().gather(4 * self.model.first + self.rows, root=0)
+        held = np.isin(index, np.concatenate(held)) if comm.getRank() == 0 \
+            else np.zeros(index.shape, dtype=bool)
+        dofs = PairDofs(comm, index, held)
+        newton = PairNewton if kind(self.pairs) == "dense" else ContactNewton
+        return newton(self.A, self.ksp, self.pairs, dofs, comm)
+
+    def describe(self):
+        pc = self.ksp.getPC()
+        kind = self.ksp.getType() + "/" + pc.getType()
+        if pc.getType() == "lu":
+            kind += f" ({pc.getFactorSolverType()})"
+        return f"plane strain, {kind}, Vp dt / h up to {self.courant:.3g}"
+
+    def set_state(self, u, v, envelopes=None):
+        """Start from u, v (nn, 2) of every node (the mesh's numbering as read)."""
+        own = self.model.owned_original
+        self.u[:] = np.asarray(u).reshape(-1, 2)[own].ravel()
+        self.v[:] = np.asarray(v).reshape(-1, 2)[own].ravel()
+        self._products_fresh = False
+
+    def _state_products(self):
+        """M v and K u of the state (u, v), in ``mv`` and ``ku``: formed once
+        per state, for a slab's right-hand side and a kept row's energies
+        alike."""
+        if self._products_fresh:
+            return
+        self.v_vec.setArray(self.v)
+        self.u_vec.setArray(self.u)
+        self.M.mult(self.v_vec, self.mv)
+        self.K.mult(self.u_vec, self.ku)
+        self._products_fresh = True
+
+    def rhs(self, forces, velocities, fields=None):
+        self._state_products()
+        ku = self.ku.getArray(readonly=True)
+        r = self.b.getArray()
+        r[0::2] = self.mv.getArray(readonly=True) - 0.5 * self.dt * ku
+        r[1::2] = -0.5 * self.dt * ku
+        if forces is not None:
+            r += forces.ravel()
+        self.forces = forces
+        if self.A_free is not None:
+            self.r_free = r[self.rows].copy()
+        r[self.rows] = np.asarray(velocities).ravel()
+
+    def solve(self, k):
+        if self.newton is not None:
+            # Newton starts from the state's velocity on the whole slab: a
+            # function of the state alone, so that a restart repeats it
+            self.x.setArray(np.repeat(self.v, 2))
+            its = self.newton.solve(self.b, self.x, k)
+            if not np.isfinite(self.x.getArray(readonly=True)).all():
+                raise SolveFailed(f"slab {k}: the solution is not finite")
+            return its
+        self.ksp.solve(self.b, self.x)
+        if self.ksp.getConvergedReason() < 0:
+            raise SolveFailed(f"slab {k}: the linear solver did not converge "
+                              f"({self.ksp.getConvergedReason()})")
+        x = self.x.getArray(readonly=True)
+        if not np.isfinite(x).all():
+            raise SolveFailed(f"slab {k}: the solution is not finite")
+        return 0, self.ksp.getIterationNumber()
+
+    def advance(self):
+        """Close the slab: its energy terms, then u and v."""
+        x = self.x.getArray(readonly=True)
+        v1, v2 = x[0::2], x[1::2]
+        if self.C is not None:
+            self.sums[0] += self.dt * self._damping(v1, v2) / 3.0
+        if self.forces is not None:
+            self.sums[1] += float(self.forces[:, 0] @ v1 + self.forces[:, 1] @ v2)
+        if self.A_free is not None:
+            self.sums[1] += self._reaction_work(x)
+        if self.pairs is not None and self.comm.getRank() == 0:
+            self.sums[2:4] += self.pairs.finish_slab()
+            self.sums[1] += self.newton.held_work()
+        self.u += 0.5 * self.dt * (v1 + v2)
+        self.v[:] = v2
+        self._products_fresh = False
+
+    def _damping(self, v1, v2):
+        """This rank's v1 C v1 + v1 C v2 + v2 C v2 (rows it owns)."""
+        self._products_fresh = False          # v_vec holds v1, v2 now
+        self.v_vec.setArray(v1)
+        self.C.mult(self.v_vec, self.c1)
+        self.v_vec.setArray(v2)
+        self.C.mult(self.v_vec, self.c2)
+        c1, c2 = self.c1.getArray(readonly=True), self.c2.getArray(readonly=True)
+        return float(v1 @ c1 + v1 @ c2 + v2 @ c2)
+
+    def _reaction_work(self, x):
+        """The held dofs' reactions' work in the slab: (A x - r) . x on their rows."""
+        self.A_free.mult(self.x, self.ax)
+        reaction = self.ax.getArray(readonly=True)[self.rows] - self.r_free
+        return float(reaction @ x[self.rows])
+
+    def totals(self):
+        """The energy sums and the state's kinetic and strain energy over
+        every rank (collective)."""
+        self._state_products()
+        kinetic, strain = 0.5 * self.mv.dot(self.v_vec), 0.5 * self.ku.dot(self.u_vec)
+        out = dict(zip(SUMS, map(float, self.space.sum_over_ranks(self.sums))))
+        out.update(kinetic=float(kinetic), strain=float(strain))
+        return out
+
+    def held_energies(self, u, v):
+        """(kinetic, strain) of the state u, v (nn, 2) (collective)."""
+        keep = self.u.copy(), self.v.copy()
+        self.set_state(u, v)
+        totals = self.totals()
+        self.u[:], self.v[:] = keep
+        self._products_fresh = False
+        return totals["kinetic"], totals["strain"]
+
+    def gather_state(self):
+        """(u, v), (nn, 2) each in the mesh's numbering as read, on rank 0
+        (None elsewhere)."""
+        if self.serial:
+            return self.u.reshape(-1, 2), self.v.reshape(-1, 2)
+        u, v = self.to_rank0(self.u), self.to_rank0(self.v)
+        return None if u is None else (u.reshape(-1, 2), v.reshape(-1, 2))
+
+    def state_energies(self):
+        return None
+
+    def elongation(self):
+        return None
+
+    def envelopes(self, nelements):
+        return None, None
+
+    def probe(self, nodes):
+        """A callable giving (u, v) (n, 2) at ``nodes`` (the mesh's numbering)
+        on rank 0 (None elsewhere)."""
+        if self.serial:
+            nodes = np.asarray(nodes)
+            return lambda: (self.u.reshape(-1, 2)[nodes], self.v.reshape(-1, 2)[nodes])
+        gather = gather_to_rank0(self.model, self.comm, nodes)
+        return lambda: _pair(gather(self.u), gather(self.v))
+
+
+def _pair(u, v):
+    return None if u is None else (u.reshape(-1, 2), v.reshape(-1, 2))
+
+
+def gather_to_rank0(model, comm, nodes=None):
+    """A callable taking this rank's owned values (2 a node, global order)
+    and giving, on rank 0, those of every node (or of ``nodes``) in the
+    mesh's numbering as read (None elsewhere): one PETSc scatter."""
+    if comm.getSize() == 1:
+        return None
+    own = model.owned_original
+    gdof = 2 * (model.first + np.arange(own.size))[:, None] + np.arange(2)
+    odof = 2 * own[:, None] + np.arange(2)
+    total = 2 * model.nnodes
+    if nodes is not None:          # only these nodes, in their order
+        where = -np.ones(model.nnodes, dtype=int)
+        where[np.asarray(nodes)] = np.arange(len(nodes))
+        keep = where[own] >= 0
+        gdof, odof = gdof[keep], 2 * where[own[keep]][:, None] + np.arange(2)
+        total = 2 * len(nodes)
+    rank0 = comm.getRank() == 0
+    target = PETSc.Vec().createMPI((total if rank0 else 0, total), comm=comm)
+    source = PETSc.Vec().createMPI((2 * own.size, PETSc.DECIDE), comm=comm)
+    scatter = PETSc.Scatter().create(
+        source, PETSc.IS().createGeneral(gdof.ravel().astype(PETSc.IntType), comm=comm),
+        target, PETSc.IS().createGeneral(odof.ravel().astype(PETSc.IntType), comm=comm))
+
+    def gather(values):
+        source.setArray(values)
+        scatter.scatter(source, target, addv=PETSc.InsertMode.INSERT,
+                        mode=PETSc.ScatterMode.FORWARD)
+        return target.getArray(readonly=True).copy() if rank0 else None
+    return gather
+
+
+class PlaneRestart:
+    """What a restart keeps beyond (u, v): each rank's energy sums, so
+    that a continued run sums as the uninterrupted one did."""
+
+    def __init__(self, solver):
+        self.solver = solver
+
+    def saved(self):
+        parts = self.solver.space.gather_on_rank0(self.solver.sums.copy())
+        return None if parts is None else {layout.ENERGY_STATE: np.array(parts)}
+
+    def restore(self, state):
+        parts = state.get(layout.ENERGY_STATE) if state else None
+        if parts is not None and parts.shape[1] < len(SUMS):    # written before interfaces
+            parts = np.pad(parts, ((0, 0), (0, len(SUMS) - parts.shape[1])))
+        space = self.solver.space
+        if parts is not None and len(parts) == self.solver.comm.getSize():
+            self.solver.sums[:] = parts[self.solver.comm.getRank()]
+        elif parts is not None:           # another number of ranks: rank 0 takes them all
+            self.solver.sums[:] = np.sum(parts, axis=0) if space.comm.getRank() == 0 else 0.0

@@ -1,0 +1,113 @@
+"""Slabs of a plane-strain model in the plain algebra of formulation.md:
+A x = R (u^n, v^{n-}) with A = HM (x) M + dt HC (x) C + dt^2 HK (x) K
+(vstpetsc.spacetime.slab.sparse_slab_matrix: the 1-D time algebra, any geometry),
+factored once; held dofs keep zero velocity (identity rows).
+
+On one rank the spatial matrices are whole CSR; on several each rank
+gives the CSR of the rows it owns (global columns; its dofs from
+``first``), vstpetsc.plane.solver.distributed.  The linear solver: options
+prefix ``vst_plane_``; by default PETSc's LU (nested dissection) on one
+rank, on several GMRES with ASM(ILU(0)) blocks up to Vp dt / h = 2 and
+MUMPS's LU beyond (bench/plane_solvers.py measures the choices).  A run
+uses the linear solver through vstpetsc.plane.solver.slab_solver; PlaneSlabs steps
+bare M, K for the tests and benches that need no case."""
+
+import numpy as np
+from petsc4py import PETSc
+
+from vstpetsc.spacetime import slab
+from vstpetsc.plane.assembly import identity_rows, petsc_matrix
+
+PREFIX = "vst_plane_"
+
+
+def _held_rows(A, held, first):
+    """A (CSR, owned rows) with the held spatial dofs' rows made identities."""
+    rows = (2 * (np.asarray(held, dtype=int) - first)[:, None] + np.arange(2)).ravel()
+    return identity_rows(A, rows, 2 * first), rows
+
+
+# On several ranks, slabs of c dt / h (P wave) up to this take GMRES with
+# overlapping Schwarz (ASM) blocks of ILU(0): at c dt / h = 1 it solves a
+# slab 1.5 times as fast as MUMPS on two ranks and ILU keeps its 6
+# iterations; beyond, its iterations grow (15 at 4, 91 at 16) while the
+# factors cost the same, and MUMPS is the default (bench/README.md).
+SCHWARZ_COURANT = 2.0
+SCHWARZ_OVERLAP = 2
+KRYLOV_RTOL = 1e-12
+
+
+def default_solver(ksp, comm, courant):
+    """Set ``ksp`` to the default for ``comm``'s size and the slabs'
+    Courant number (before the options database may change it)."""
+    pc = ksp.getPC()
+    if comm.getSize() > 1 and courant is not None and courant <= SCHWARZ_COURANT:
+        ksp.setType("gmres")
+        ksp.setTolerances(rtol=KRYLOV_RTOL, atol=0.0, max_it=200)
+        pc.setType("asm")
+        pc.setASMOverlap(SCHWARZ_OVERLAP)
+        return
+    ksp.setType("preonly")
+    pc.setType("lu")
+    if comm.getSize() > 1:
+        pc.setFactorSolverType("mumps")
+
+
+def linear_solver(A, comm, courant=None):
+    """The KSP of the slab matrix A (options prefix ``vst_plane_``), set up
+    (factored) here, once: PETSc's LU in nested dissection on one rank; on
+    several, GMRES with ASM(ILU(0)) blocks for slabs of c dt / h up to
+    SCHWARZ_COURANT (``courant``, None: unknown) and MUMPS's LU beyond;
+    any option of the database overrides it."""
+    opts = PETSc.Options()
+    ksp = PETSc.KSP().create(comm=comm)
+    ksp.setOptionsPrefix(PREFIX)
+    ksp.setOperators(A)
+    default_solver(ksp, comm, courant)
+    ksp.setFromOptions()
+    pc = ksp.getPC()
+    # (ASM's blocks are PETSc's default, ILU(0) with one application)
+    # PETSc's own LU in nested dissection unless told otherwise (MUMPS
+    # orders by itself)
+    if pc.getType() == "lu" and pc.getFactorSolverType() == "petsc" and \
+            not opts.hasName(PREFIX + "pc_factor_mat_ordering_type"):
+        pc.setFactorOrdering("nd")
+    ksp.setUp()
+    return ksp
+
+
+class PlaneSlabs:
+    """Slabs of dt for the spatial matrices M, C (or None), K (CSR, 2
+    dofs a node: whole, or a rank's owned rows from spatial dof
+    ``first``); ``held`` the (global) spatial dofs whose velocity is 0."""
+
+    def __init__(self, M, C, K, dt, held=(), comm=None, first=0):
+        comm = comm or PETSc.COMM_SELF
+        self.dt = dt
+        A, self.rows = _held_rows(slab.sparse_slab_matrix(M, C, K, dt), held, first)
+        self.A = petsc_matrix(A, comm)
+        self.M, self.K = petsc_matrix(M, comm), petsc_matrix(K, comm)
+        self.ksp = linear_solver(self.A, comm)
+        self.x, self.b = self.A.createVecs()
+        self.mv, self.ku = self.M.createVecs()
+        self.v_vec, self.u_vec = self.M.createVecs()
+
+    def step(self, u, v, forces=None):
+        """(u^{n+1}, v^{(n+1)-}) from (u^n, v^{n-}), this rank's entries;
+        ``forces`` the slab's nodal force integrals (2 per dof, interleaved)."""
+        self.v_vec.setArray(v)
+        self.u_vec.setArray(u)
+        self.M.mult(self.v_vec, self.mv)
+        self.K.mult(self.u_vec, self.ku)
+        ku = self.ku.getArray()
+        r = np.empty(2 * u.size)
+        r[0::2] = self.mv.getArray() - 0.5 * self.dt * ku
+        r[1::2] = -0.5 * self.dt * ku
+        if forces is not None:
+            r += forces
+        r[self.rows] = 0.0
+        self.b.setArray(r)
+        self.ksp.solve(self.b, self.x)
+        x = self.x.getArray()
+        v1, v2 = x[0::2], x[1::2]
+        return u + 0.5 * self.dt * (v1 + v2), v2.copy()
