@@ -107,19 +107,22 @@ bench-opensees: install $(OPENSEES)
 bench-parallel: install
 	$(PY) bench/parallel_solvers.py
 
-# The accuracy study's tables (docs/accuracy.md): bar-wall by variant and
-# Courant number, against the mesh, and the standing wave; waves by mass
-# matrix (docs/wave-accuracy.md).
+# The accuracy studies' tables (studies/README.md; bench/ holds timing only):
+# bar-wall by variant and Courant number, against the mesh, and the
+# standing wave (docs/accuracy.md); waves by mass matrix
+# (docs/wave-accuracy.md); D(ky) and the flexible column, with their two
+# figures (docs/sliding-block.md).
 accuracy: install
-	$(PY) bench/impact_study.py impact
-	$(PY) bench/impact_study.py mesh
-	$(PY) bench/impact_study.py moved
-	$(PY) bench/impact_study.py wave
-	$(PY) bench/impact_study.py cost
-	$(PY) bench/wave_study.py wave
-	$(PY) bench/wave_study.py site
-	$(PY) bench/wave_study.py rigid
-	$(PY) bench/wave_study.py semi
+	$(PY) studies/impact_study.py impact
+	$(PY) studies/impact_study.py mesh
+	$(PY) studies/impact_study.py moved
+	$(PY) studies/impact_study.py wave
+	$(PY) studies/impact_study.py cost
+	$(PY) studies/wave_study.py wave
+	$(PY) studies/wave_study.py site
+	$(PY) studies/wave_study.py rigid
+	$(PY) studies/wave_study.py semi
+	$(PY) studies/sliding_study.py
 
 # The reliability catalogue many times over (random kills, signals, full disks).
 soak: install

@@ -2,7 +2,7 @@
 docs/wave-accuracy.md): the standing wave of the `wave` example and the
 site response of a soil layer on elastic rock, both against their closed
 forms (tests/references/waves.py: the problems of bench/opensees.py and
-bench/wave_study.py, their exact solutions and error norms, and the
+studies/wave_study.py, their exact solutions and error norms, and the
 semi-discrete transfer function)."""
 
 import io

@@ -1,7 +1,7 @@
 """Independent references the tests check vstpetsc against, written from
 the physics or the literature; none imports vstpetsc (a few read the
 typed view of a vstpetsc Case they are given).  The benchmarks in bench/
-import them from here.
+and the accuracy studies in studies/ import them from here.
 
 - mkz.py: the MKZ backbone with the extended Masing rules, one point and
   an explicit shear column (issue 28);

@@ -40,7 +40,7 @@ case's moving wall (read from the Case, nothing of vstpetsc imported).
 Checked in tests/test_sliding_block_reference.py (the closed forms it is
 checked against are derived there); used by tests/test_friction.py,
 tests/test_examples.py, tests/test_sliding_sweep.py and
-bench/sliding_study.py.
+studies/sliding_study.py.
 """
 
 import math

@@ -21,7 +21,7 @@ A job is one run of a problem: its mesh, step and method fields
 dict), :func:`metrics` its error from the run's result.
 
 Checked in tests/test_waves_reference.py; used by tests/test_wave_accuracy.py,
-bench/opensees.py and bench/wave_study.py.
+bench/opensees.py and studies/wave_study.py.
 """
 
 import math

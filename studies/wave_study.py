@@ -1,6 +1,6 @@
 """Spatial accuracy of waves by mass matrix (issue 26 item 4;
 docs/wave-accuracy.md). The problems, closed forms and error norms are
-tests/references/waves.py's (bench/opensees.py's problems):
+tests/references/waves.py's (bench/opensees.py's problems too):
 
 wave  the `wave` example's standing wave (u0 exact at the nodes): tip
       displacement, relative L2 error over two periods;
@@ -13,7 +13,7 @@ semi  the site problem's semi-discrete solution (no time stepping: the
       base's impedance scaled by 1 - (kh)^2 / 12 (a test of the cause of
       its second-order error; not realisable in the time domain).
 
-    .venv/bin/python bench/wave_study.py [wave|site|rigid|semi]
+    .venv/bin/python studies/wave_study.py [wave|site|rigid|semi]
 """
 
 import io
@@ -24,10 +24,9 @@ import tempfile
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-sys.path.append(os.path.join(os.path.dirname(HERE), "tests"))
-from opensees import vst_run  # noqa: E402
+# the problems' exact solutions live beside the tests that check them
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.append(os.path.join(ROOT, "tests"))
 from references import waves  # noqa: E402
 
 SITE = waves.SITE
@@ -68,14 +67,23 @@ def semi_discrete_error(elements, mass, corrected, folder, span=8.0, dt=1e-4):
     return waves.rel_l2(v[keep], exact)
 
 
-def rigid_error(elements, courant, mass, folder):
-    """The site layer with the base's velocity prescribed to v_in."""
+def run_doc(doc, folder, name):
+    """vstpetsc.run of the case ``doc``, quietly, into FOLDER/NAME."""
     import vstpetsc
 
+    return vstpetsc.run(vstpetsc.Case.from_dict(doc), os.path.join(folder, name),
+                        quiet=True, out=io.StringIO())
+
+
+def job_error(job, folder):
+    """The relative error of one run of a waves job (its metrics' "error")."""
+    return waves.metrics(job, run_doc(waves.case_doc(job, folder), folder, "run.h5"))["error"]
+
+
+def rigid_error(elements, courant, mass, folder):
+    """The site layer with the base's velocity prescribed to v_in."""
     job = waves.job_for("site", {"mass": mass}, elements, courant)
-    doc = waves.rigid_base(waves.case_doc(job, folder))
-    r = vstpetsc.run(vstpetsc.Case.from_dict(doc), os.path.join(folder, "rigid.h5"),
-                     quiet=True, out=io.StringIO())
+    r = run_doc(waves.rigid_base(waves.case_doc(job, folder)), folder, "rigid.h5")
     return waves.rel_l2(r["body/bar/v"][1:, -1], waves.rigid_surface_exact(r["time"][1:]))
 
 
@@ -84,7 +92,7 @@ def table(name, folder):
     print(f"{name}: c dt/h = " + ", ".join(f"{c:g}" for c in COURANTS[name]))
     for mass in ("averaged", "consistent"):
         for n in ELEMENTS[name]:
-            errors = [vst_run(waves.job_for(name, {"mass": mass}, n, c), folder)[1]["error"]
+            errors = [job_error(waves.job_for(name, {"mass": mass}, n, c), folder)
                       for c in COURANTS[name]]
             print(f"| {mass} | {n} | " + " | ".join(f"{e:.2e}" for e in errors) + " |",
                   flush=True)

@@ -9,7 +9,7 @@ Standing wave: the clamped-free steel bar started in its first mode (nodal
 values exact), the tip displacement's relative L2 error over two periods
 against the continuous solution.
 
-    .venv/bin/python bench/impact_study.py [impact|mesh|moved|wave|cost]
+    .venv/bin/python studies/impact_study.py [impact|mesh|moved|wave|cost]
 
 ``moved``: the defaults (power penalty 0.5 E A / h, averaged mass) and the
 same with ``redistribute_mass``, against the mesh and c dt/h.
