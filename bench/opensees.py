@@ -22,10 +22,8 @@ bench/README.md (after bench/run.py, which writes the head and its own sections)
 """
 
 import io
-import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -35,7 +33,8 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.append(os.path.join(os.path.dirname(HERE), "tests"))
 
-from readme import bench_arguments, results_and_section, write_readme  # noqa: E402,F401
+import opensees_common as common  # noqa: E402
+from readme import bench_arguments, write_readme  # noqa: E402,F401
 from references.waves import (AMP, AREA, E, LENGTH, RHO, SITE, V0,  # noqa: E402
                               case_doc, evaluate, job_for, metrics, node_masses, problem,
                               site_incident)
@@ -47,10 +46,14 @@ WORK_CAP = 1.2e7                  # elements x steps of the largest run of the s
 SLOW_TOTAL = 8.0                  # seconds of timing runs after which a job stops at three
 
 
+def work(run):
+    """The search's cost measure: elements x steps."""
+    return run["elements"] * run["steps"]
+
+
 def cheapest(rows, target):
     """The row of least work (elements x steps) whose error is <= target."""
-    ok = [r for r in rows if r["error"] is not None and r["error"] <= target]
-    return min(ok, key=lambda r: r["elements"] * r["steps"]) if ok else None
+    return common.cheapest(rows, target, work)
 
 
 # ---------------------------------------------------------------- OpenSees (child)
@@ -155,32 +158,24 @@ def initial_acceleration(u0, n, mass):
 def worker():
     """Child loop: one JSON job a line on stdin, one JSON answer a line."""
     with tempfile.TemporaryDirectory() as folder:
-        for line in sys.stdin:
-            seconds, metrics = opensees_run(json.loads(line), folder)
-            sys.stdout.write(json.dumps({"seconds": seconds, **metrics}) + "\n")
-            sys.stdout.flush()
-    return 0
+        return common.serve(lambda job: opensees_answer(job, folder))
 
 
-class OpenSeesChild:
+def opensees_answer(job, folder):
+    """The child's answer to a job: its seconds and its metrics."""
+    seconds, metrics = opensees_run(job, folder)
+    return {"seconds": seconds, **metrics}
+
+
+class OpenSeesChild(common.WorkerChild):
     """The child process that runs OpenSees jobs."""
 
     def __init__(self):
-        self.proc = subprocess.Popen([sys.executable, os.path.abspath(__file__), "--worker"],
-                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        super().__init__(__file__)
 
     def __call__(self, job):
-        self.proc.stdin.write(json.dumps(job) + "\n")
-        self.proc.stdin.flush()
-        answer = self.proc.stdout.readline()
-        if not answer:
-            raise RuntimeError(f"the OpenSees child died on {job}")
-        got = json.loads(answer)
+        got = self.ask(job)
         return got.pop("seconds"), got
-
-    def close(self):
-        self.proc.stdin.close()
-        self.proc.wait(timeout=30)
 
 
 # ---------------------------------------------------------------- vstpetsc
@@ -236,26 +231,11 @@ def search(name, runners, quick, log):
     return rows
 
 
-def time_chosen(chosen, runners, reps):
-    """Run every chosen job ``reps`` times, interleaved: (min, median) each;
-    a job that has taken SLOW_TOTAL seconds stops after three runs."""
-    keys = list(chosen)
-    times = {key: [] for key in keys}
-    for _ in range(reps):
-        for key in keys:
-            if len(times[key]) >= 3 and sum(times[key]) > SLOW_TOTAL:
-                continue
-            kind, job = chosen[key]
-            times[key].append(runners[kind](job)[0])
-    return {key: (min(v), float(np.median(v))) for key, v in times.items()}
-
-
 def measure(quick, log=print):
     child = OpenSeesChild()                      # before PETSc starts Open MPI
     with tempfile.TemporaryDirectory() as folder:
         runners = {"vst": lambda job: vst_run(job, folder), "os": child}
-        res = {"quick": quick, "date": time.strftime("%Y-%m-%d"),
-               "machine": f"{os.uname().nodename} {os.cpu_count()} cores", "problems": {}}
+        res = {**common.results_head(quick), "problems": {}}
         chosen = {}
         for name in TARGETS:
             rows = search(name, runners, quick, log)
@@ -268,7 +248,7 @@ def measure(quick, log=print):
                     if best is not None:
                         key = (name, method, best["elements"], best["courant"])
                         chosen[key] = (kind_fields[0], {k: best[k] for k in job_keys(best)})
-        timed = time_chosen(chosen, runners, 2 if quick else 5)
+        timed = common.time_chosen(chosen, runners, 2 if quick else 5, SLOW_TOTAL)
         for name, prob in res["problems"].items():
             for row in prob["table"]:
                 run = row["run"]
@@ -321,35 +301,22 @@ def section(res):
     for name, prob in res["problems"].items():
         for row in prob["table"]:
             lines.append(table_row(name, row, prob["runs"][row["method"]]))
-    return "\n".join(lines + ["", "Fastest per target (min times; the others as multiples "
-                               "of it):", ""] + fastest_lines(res)) + "\n"
+    return common.section_text(lines, fastest_lines(res))
 
 
 def fastest_lines(res):
     """One line a problem and target: the fastest method, the others' ratios."""
-    out = []
-    for name, prob in res["problems"].items():
-        for target in TARGETS[name]:
-            rows = [r for r in prob["table"] if r["target"] == target and r["run"]]
-            if not rows:
-                continue
-            best = min(rows, key=lambda r: r["time_min"])
-            others = ", ".join(f"{r['method']} {r['time_min'] / best['time_min']:.1f} x"
-                               for r in rows if r is not best)
-            missing = [r["method"] for r in prob["table"]
-                       if r["target"] == target and not r["run"]]
-            out.append(f"- {name} {target:g}: {best['method']} "
-                       f"{1e3 * best['time_min']:.1f} ms" + (f"; {others}" if others else "")
-                       + (f"; not reached: {', '.join(missing)}" if missing else "") + ".")
-    return out
+    lines = (common.fastest_line(f"{name} {target:g}", prob["table"], target,
+                                 lambda seconds: f"{1e3 * seconds:.1f} ms")
+             for name, prob in res["problems"].items() for target in TARGETS[name])
+    return [line for line in lines if line is not None]
 
 
 def table_row(name, row, runs):
     run = row["run"]
     head = f"| {name} | {row['target']:g} | {row['method']} |"
     if run is None:
-        done = [r for r in runs if r["error"] is not None]
-        best = min(done, key=lambda r: r["error"]) if done else None
+        best = common.most_accurate(runs)
         note = (f"not reached (best {best['error']:.2e} at {best['elements']} elements)"
                 if best else "not reached")
         return head + f" {note} | | | | | |"
@@ -360,14 +327,8 @@ def table_row(name, row, runs):
 
 
 def main(argv=None):
-    ap = bench_arguments("opensees", HERE)
-    args = ap.parse_args(argv)
-    if args.worker:
-        return worker()
-    results_and_section(args.out, "opensees", args.readme_only,
-                        lambda: measure(args.quick, log=lambda s: print(s, flush=True)),
-                        section, SECTION)
-    return 0
+    args = bench_arguments("opensees", HERE).parse_args(argv)
+    return common.bench_main("opensees", args, worker, measure, section, SECTION)
 
 
 if __name__ == "__main__":

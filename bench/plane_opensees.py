@@ -91,7 +91,6 @@ OpenSees" of bench/README.md.
 import json
 import math
 import os
-import subprocess
 import sys
 import time
 
@@ -100,7 +99,8 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.append(HERE)
 
-from readme import bench_arguments, results_and_section, write_readme  # noqa: E402,F401
+import opensees_common as common  # noqa: E402
+from readme import bench_arguments  # noqa: E402
 
 # the material (nu = 1/4: Vp = sqrt(3) Vs) and the square
 LENGTH, E, NU, RHO = 10.0, 2.0e8, 0.25, 2000.0
@@ -272,38 +272,33 @@ def opensees_probe(method):
 
 def worker():
     """Child loop: one JSON job a line on stdin, one JSON answer a line."""
+    return common.serve(opensees_answer)
+
+
+def opensees_answer(job):
+    """The child's answer to a probe (the systems' seconds) or to a run
+    (its seconds and error), with OpenSees' version."""
     import openseespy.opensees as ops
 
-    for line in sys.stdin:
-        job = json.loads(line)
-        if "probe" in job:
-            answer = {"systems": opensees_probe(job["probe"])}
-        else:
-            seconds, u, xy = opensees_run(job)
-            answer = {"seconds": seconds, "error": None if u is None else relative_error(xy, u)}
-        answer["version"] = ops.version()
-        sys.stdout.write(json.dumps(answer) + "\n")
-        sys.stdout.flush()
-    return 0
+    if "probe" in job:
+        answer = {"systems": opensees_probe(job["probe"])}
+    else:
+        seconds, u, xy = opensees_run(job)
+        answer = {"seconds": seconds, "error": None if u is None else relative_error(xy, u)}
+    answer["version"] = ops.version()
+    return answer
 
 
-class OpenSeesChild:
+class OpenSeesChild(common.WorkerChild):
     """The child process that runs OpenSees jobs; each job's method gets
     the system that ``probe`` found fastest."""
 
     def __init__(self):
-        self.proc = subprocess.Popen([sys.executable, os.path.abspath(__file__), "--worker"],
-                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
-                                     stderr=subprocess.DEVNULL)    # OpenSees' banners
+        super().__init__(__file__, quiet=True, close_timeout=60)    # quiet: OpenSees' banners
         self.systems, self.version = {}, None
 
     def ask(self, job):
-        self.proc.stdin.write(json.dumps(job) + "\n")
-        self.proc.stdin.flush()
-        answer = self.proc.stdout.readline()
-        if not answer:
-            raise RuntimeError(f"the OpenSees child died on {job}")
-        got = json.loads(answer)
+        got = super().ask(job)
         self.version = got.pop("version")
         return got
 
@@ -316,10 +311,6 @@ class OpenSeesChild:
     def __call__(self, job):
         got = self.ask({**job, "system": self.systems.get(job["method"], SYSTEMS[0])})
         return got["seconds"], got["error"]
-
-    def close(self):
-        self.proc.stdin.close()
-        self.proc.wait(timeout=60)
 
 
 # ---------------------------------------------------------------- vstpetsc
@@ -400,8 +391,7 @@ def work(run):
 
 def cheapest(rows, target):
     """The row of least work (elements x steps) whose error is <= target."""
-    ok = [r for r in rows if r["error"] is not None and r["error"] <= target]
-    return min(ok, key=work) if ok else None
+    return common.cheapest(rows, target, work)
 
 
 def search(runners, quick, log):
@@ -427,18 +417,6 @@ def search(runners, quick, log):
                     break
                 last = error
     return rows
-
-
-def time_chosen(chosen, runners, reps):
-    """Run every chosen job ``reps`` times, interleaved: (min, median) each;
-    a job that has taken SLOW_TOTAL seconds stops after three runs."""
-    times = {key: [] for key in chosen}
-    for _ in range(reps):
-        for key, (kind, job) in chosen.items():
-            if len(times[key]) >= 3 and sum(times[key]) > SLOW_TOTAL:
-                continue
-            times[key].append(runners[kind](job)[0])
-    return {key: (min(v), float(np.median(v))) for key, v in times.items()}
 
 
 def extrapolate(rows, target):
@@ -468,9 +446,7 @@ def measure(quick, log=print):
     plan = methods(quick)
     systems = {m: child.probe(m) for m, (kind, _) in plan.items() if kind == "os"}
     log(f"OpenSees systems (s for {PROBE_STEPS} steps at n = {PROBE_N}): {systems}")
-    res = {"quick": quick, "date": time.strftime("%Y-%m-%d"),
-           "machine": f"{os.uname().nodename} {os.cpu_count()} cores",
-           "work_cap": QUICK_CAP if quick else WORK_CAP, "system_probe": systems,
+    res = {**common.results_head(quick), "work_cap": QUICK_CAP if quick else WORK_CAP, "system_probe": systems,
            "systems": dict(child.systems), "runs": search(runners, quick, log), "table": []}
     chosen = {}
     for method, (kind, _) in plan.items():
@@ -482,7 +458,7 @@ def measure(quick, log=print):
             else:
                 chosen[(method, best["n"], best["per_sample"])] = (kind, job_fields(best))
             res["table"].append(row)
-    timed = time_chosen(chosen, runners, 2 if quick else 5)
+    timed = common.time_chosen(chosen, runners, 2 if quick else 5, SLOW_TOTAL)
     for row in res["table"]:
         if row["run"] is not None:
             key = (row["method"], row["run"]["n"], row["run"]["per_sample"])
@@ -532,15 +508,13 @@ def section(res):
     vst = {r["target"]: r for r in res["table"] if r["method"] == "vstpetsc"}
     for row in res["table"]:
         lines.append(table_row(row, vst[row["target"]], res["runs"][row["method"]]))
-    return "\n".join(lines + ["", "Fastest per target (min times; the others as multiples "
-                               "of it):", ""] + fastest_lines(res)) + "\n"
+    return common.section_text(lines, fastest_lines(res))
 
 
 def table_row(row, vst_row, runs):
     run, head = row["run"], f"| {row['target']:g} | {row['method']} |"
     if run is None:
-        done = [r for r in runs if r["error"] is not None]
-        best = min(done, key=lambda r: r["error"]) if done else None
+        best = common.most_accurate(runs)
         note = "not reached" + (f" (best {best['error']:.2e} at {best['n']} x {best['n']})"
                                 if best else "")
         est = row.get("estimate")
@@ -558,20 +532,9 @@ def table_row(row, vst_row, runs):
 
 def fastest_lines(res):
     """One line a target: the fastest method, the others' ratios."""
-    out = []
-    for target in TARGETS:
-        rows = [r for r in res["table"] if r["target"] == target and r["run"]]
-        missing = [r["method"] for r in res["table"] if r["target"] == target and not r["run"]]
-        if not rows:
-            out.append(f"- {target:g}: no method within the cap.")
-            continue
-        best = min(rows, key=lambda r: r["time_min"])
-        others = ", ".join(f"{r['method']} {r['time_min'] / best['time_min']:.1f} x"
-                           for r in rows if r is not best)
-        out.append(f"- {target:g}: {best['method']} {best['time_min']:.2f} s"
-                   + (f"; {others}" if others else "")
-                   + (f"; not reached: {', '.join(missing)}" if missing else "") + ".")
-    return out
+    return [common.fastest_line(f"{target:g}", res["table"], target,
+                                lambda seconds: f"{seconds:.2f} s")
+            or f"- {target:g}: no method within the cap." for target in TARGETS]
 
 
 def single_run(method, n, courant):
@@ -594,14 +557,9 @@ def main(argv=None):
                     help="one run beyond the cap, e.g. --run 'opensees bbarQuad' 362 1: "
                          "its error and time, nothing written")
     args = ap.parse_args(argv)
-    if args.worker:
-        return worker()
-    if args.run:
+    if args.run and not args.worker:
         return single_run(args.run[0], int(args.run[1]), float(args.run[2]))
-    results_and_section(args.out, "plane_opensees", args.readme_only,
-                        lambda: measure(args.quick, log=lambda s: print(s, flush=True)),
-                        section, SECTION)
-    return 0
+    return common.bench_main("plane_opensees", args, worker, measure, section, SECTION)
 
 
 if __name__ == "__main__":
