@@ -38,33 +38,41 @@ def bar_case(elements, slabs, contact=False, cfl=0.5):
     return text
 
 
-def slab_solver(elements):
-    """vstpetsc's own slab solver of the benchmark bar (left end clamped, the
-    case `vstpetsc run` solves below): its matrix, factored by its linear
-    solver with the run's defaults (PETSc's LU, natural ordering, BAIJ)."""
-    case = Case.from_text(bar_case(elements, 10))
-    return SlabSolver(build_model(case), case.dt, PETSc.COMM_SELF, SolverOptions())
+def factored_slab(text):
+    """vstpetsc's own linear solve of the slab matrix of the case ``text``
+    (the matrix factored with the run's defaults: PETSc's LU, natural
+    ordering, BAIJ), and a random right-hand side and a solution vector."""
+    case = Case.from_text(text)
+    linear = SlabSolver(build_model(case), case.dt, PETSc.COMM_SELF, SolverOptions()).linear
+    b, x = linear.ksp.getOperators()[0].createVecs()
+    b.setRandom()
+    return linear, b, x
+
+
+def seconds_per_call(call, b, x, solves, reps):
+    """(min, median) seconds of one ``call(b, x)`` over ``reps``
+    repetitions of ``solves`` calls each (a batch: one call is too short
+    for the clock)."""
+    times = []
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        for _ in range(solves):
+            call(b, x)
+        times.append((time.perf_counter() - t0) / solves)
+    return min(times), statistics.median(times)
 
 
 def solve_time(elements, solves=20, reps=3):
-    """Seconds of one solve with the LU factors of the slab matrix, (min,
-    median) over ``reps`` repetitions of ``solves`` solves each: as one
-    KSPSolve (the reference) and as one PCApply (KSPSolve without zeroing
-    the solution first, what `vstpetsc run` calls)."""
-    linear = slab_solver(elements).linear
-    ksp = linear.ksp
-    b, x = ksp.getOperators()[0].createVecs()
-    b.setRandom()
+    """Seconds of one solve with the LU factors of the slab matrix of the
+    benchmark bar (left end clamped, the case `vstpetsc run` solves below),
+    (min, median) over ``reps`` repetitions of ``solves`` solves each: as
+    one KSPSolve (the reference) and as one PCApply (KSPSolve without
+    zeroing the solution first, what `vstpetsc run` calls)."""
+    linear, b, x = factored_slab(bar_case(elements, 10))
     out = []
-    for call in (ksp.solve, linear.pc.apply):
-        call(b, x)
-        times = []
-        for _ in range(reps):
-            t0 = time.perf_counter()
-            for _ in range(solves):
-                call(b, x)
-            times.append((time.perf_counter() - t0) / solves)
-        out += [min(times), statistics.median(times)]
+    for call in (linear.ksp.solve, linear.pc.apply):
+        call(b, x)                  # the first call pays for set-up, not timed
+        out += seconds_per_call(call, b, x, solves, reps)
     return tuple(out)
 
 

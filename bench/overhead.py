@@ -30,13 +30,9 @@ import time
 
 import h5py
 import numpy as np
-from petsc4py import PETSc
 
+import limit   # the floor: one solve with the factored slab matrix, timed
 from cases import steel_bar
-from vstpetsc import Case
-from vstpetsc.line.model import build_model
-from vstpetsc.petsc.options import SolverOptions
-from vstpetsc.line.solver.slab_solver import SlabSolver
 
 VSTPETSC = os.path.join(os.path.dirname(sys.executable), "vstpetsc")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -63,17 +59,8 @@ def case_text(kind, elements, slabs):
 def floor(text, solves=200, reps=5):
     """(min, median) seconds of one PCApply with the factored slab matrix of
     the case ``text`` (vstpetsc's own solver of it)."""
-    case = Case.from_text(text)
-    linear = SlabSolver(build_model(case), case.dt, PETSc.COMM_SELF, SolverOptions()).linear
-    b, x = linear.ksp.getOperators()[0].createVecs()
-    b.setRandom()
-    times = []
-    for _ in range(reps):
-        t0 = time.perf_counter()
-        for _ in range(solves):
-            linear.pc.apply(b, x)
-        times.append((time.perf_counter() - t0) / solves)
-    return min(times), statistics.median(times)
+    linear, b, x = limit.factored_slab(text)
+    return limit.seconds_per_call(linear.pc.apply, b, x, solves, reps)
 
 
 def per_slab(path, contact, law=False):

@@ -199,27 +199,35 @@ def wall_for_error(series, target):
 
 
 # -- (b) impact --------------------------------------------------------------
+IMPACT_GAP, IMPACT_END = 0.1, 3.0     # the set-up of `impact` and (c): v0 = 1 on bar a
+
+
+def _impact_text(elements, dt, k, every):
+    """The two-bar impact of (b) and (c) as case text, with the penalty k given."""
+    g0 = IMPACT_GAP
+    return (f"[time]\ndt = {dt!r}\nend = {IMPACT_END!r}\n[output]\nevery = {every}\n"
+            f"[[body]]\nname = \"a\"\nx = [0.0, 1.0]\nelements = {elements}\n"
+            "E = 1.0\nrho = 1.0\nv0 = 1.0\n"
+            f"[[body]]\nname = \"b\"\nx = [{1 + g0!r}, {2 + g0!r}]\nelements = {elements}\n"
+            "E = 1.0\nrho = 1.0\n"
+            f"[[contact]]\npair = [\"a\", \"b\"]\nformulation = \"power\"\npenalty = {k!r}\n")
+
+
 def impact(elements=50, cfl=0.5, beta=50.0, radii=(1.0, 0.5)):
     """Two identical bars (v0 = 1, gap 0.1), penalty k = beta E A / h."""
     h = 1.0 / elements
-    dt, end, g0 = cfl * h, 3.0, 0.1
+    dt, end, g0 = cfl * h, IMPACT_END, IMPACT_GAP
     k = beta / h
     steps = int(round(end / dt))
     out = {"elements_per_bar": elements, "dt": dt, "penalty": k}
     with tempfile.TemporaryDirectory() as folder:
-        text = (f"[time]\ndt = {dt!r}\nend = {end!r}\n"
-                f"[[body]]\nname = \"a\"\nx = [0.0, 1.0]\nelements = {elements}\n"
-                "E = 1.0\nrho = 1.0\nv0 = 1.0\n"
-                f"[[body]]\nname = \"b\"\nx = [{1 + g0!r}, {2 + g0!r}]\nelements = {elements}\n"
-                "E = 1.0\nrho = 1.0\n"
-                f"[[contact]]\npair = [\"a\", \"b\"]\nformulation = \"power\"\npenalty = {k!r}\n")
         path = os.path.join(folder, "i.h5")
         # wall time with output every 1000 slabs (the peer keeps its arrays
         # in memory), metrics from a run that keeps every slab
         t0 = time.perf_counter()
-        run(text.replace("[[body]]", "[output]\nevery = 1000\n[[body]]", 1), path)
+        run(_impact_text(elements, dt, k, 1000), path)
         wall = time.perf_counter() - t0
-        run(text, path)
+        run(_impact_text(elements, dt, k, 1), path)
         with h5py.File(path) as f:
             t, F = f["time"][:], f["contact/0/force"][:]
             e = f["energy/kinetic"][:] + f["energy/strain"][:]
@@ -261,20 +269,6 @@ def _impact_metrics(t, force, energy):
 
 
 # -- (c) impact at equal accuracy of the contact force ----------------------
-IMPACT_GAP, IMPACT_END = 0.1, 3.0     # the set-up of `impact`: v0 = 1 on bar a
-
-
-def _impact_text(elements, dt, k, every):
-    """The two-bar impact of `impact` as case text, with the penalty k given."""
-    g0 = IMPACT_GAP
-    return (f"[time]\ndt = {dt!r}\nend = {IMPACT_END!r}\n[output]\nevery = {every}\n"
-            f"[[body]]\nname = \"a\"\nx = [0.0, 1.0]\nelements = {elements}\n"
-            "E = 1.0\nrho = 1.0\nv0 = 1.0\n"
-            f"[[body]]\nname = \"b\"\nx = [{1 + g0!r}, {2 + g0!r}]\nelements = {elements}\n"
-            "E = 1.0\nrho = 1.0\n"
-            f"[[contact]]\npair = [\"a\", \"b\"]\nformulation = \"power\"\npenalty = {k!r}\n")
-
-
 def vst_impact_force(elements, dt, k, repeats=3):
     """(slab-end times, slab-mean contact forces J/dt, best wall time of
     `repeats` whole runs, None if 0).  Timed runs keep only t = 0 and the
