@@ -20,6 +20,7 @@ from petsc4py import PETSc
 
 from vstpetsc.spacetime import slab
 from vstpetsc.plane import assembly, elements, mesh as plane_mesh
+from vstpetsc.plane.solver import matrices
 
 REPEATS = 7
 SOLVERS = {
@@ -38,7 +39,7 @@ def slab_matrix(cells, courant=1.0):
     M, K = assembly.matrices(m, lam, mu, 2000.0, "averaged")
     vp = np.sqrt((lam + 2 * mu) / 2000.0)
     A = slab.sparse_slab_matrix(M, None, K, courant / vp)      # h = 1
-    return assembly.petsc_matrix(A), m.ncells
+    return matrices.petsc_matrix(A), m.ncells
 
 
 def measure(A, options):

@@ -8,7 +8,7 @@ import pytest
 from petsc4py import PETSc
 
 from conftest import bar, make_case, solve
-from vstpetsc.runner.energy import EnergyBook
+from vstpetsc.line.energy import LineEnergyBook as EnergyBook
 from vstpetsc.line.model import build_model
 from vstpetsc.line.native.closing import SlabClose
 from vstpetsc.petsc.options import SolverOptions

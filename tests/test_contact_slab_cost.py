@@ -1,4 +1,4 @@
-"""The compiled penalty slab on one rank (vstpetsc.native.PenaltySlab
+"""The compiled penalty slab on one rank (vstpetsc.penalty_native.PenaltySlab
 bound to the solver's arrays): it reads the pairs' unknowns, subtracts
 their influence, closes the slab (u += z_2, b += carry f) and finds each
 acting pair's pieces of the slab itself.  Runs equal the Python path
@@ -10,6 +10,7 @@ import pytest
 from agreement import assert_runs_agree, datasets
 from conftest import bar, make_case, solve
 from vstpetsc import native
+from vstpetsc.line.native import penalty as penalty_native
 from vstpetsc.line.laws import penalty
 from vstpetsc.kernels.gap import active_intervals, gap_coefficients
 
@@ -74,7 +75,7 @@ def test_the_slab_is_bound_on_one_rank(tmp_path):
                     None, None)
     loop.execute(False, "")
     newton = loop.solver.nonlinear.newton
-    assert isinstance(newton, native.PenaltySlab) and newton.serial
+    assert isinstance(newton, penalty_native.PenaltySlab) and newton.serial
 
 
 def test_the_compiled_pieces_are_active_intervals(tmp_path, monkeypatch):

@@ -29,6 +29,7 @@ from conftest import bar, make_case, solve
 from test_contact import initial_state
 from test_friction import G_ACC, RHO, block_case, column_case, pulse_velocity
 from vstpetsc import native
+from vstpetsc.line.native import penalty as penalty_native
 from vstpetsc.line import reduced_newton
 from vstpetsc.errors import SolveFailed
 from vstpetsc.line.laws.friction import CoulombFriction
@@ -125,9 +126,9 @@ def test_random_slabs_are_the_python_newton_bit_for_bit(form, rng, monkeypatch):
     monkeypatch.setattr(reduced_newton, "_solve_dense", solve_dense_as_c)
     laws = block_solver(form).nonlinear.laws
     pair, friction = laws.laws
-    assert isinstance(friction, CoulombFriction) and native.takes(laws.laws)
+    assert isinstance(friction, CoulombFriction) and penalty_native.takes(laws.laws)
     S = block_solver(form).nonlinear.coupling.S_red
-    python, compiled = ReducedNewton(laws, S), native.NativeNewton(laws, S)
+    python, compiled = ReducedNewton(laws, S), penalty_native.NativeNewton(laws, S)
     seen = set()
     for _ in range(1500):
         state, a, b = both_newtons(python, compiled, laws, rng)
@@ -143,7 +144,7 @@ def test_random_slabs_with_lapack_agree_to_the_newton_tolerance(form, rng):
     laws = block_solver(form).nonlinear.laws
     pair, friction = laws.laws
     S = block_solver(form).nonlinear.coupling.S_red
-    python, compiled = ReducedNewton(laws, S), native.NativeNewton(laws, S)
+    python, compiled = ReducedNewton(laws, S), penalty_native.NativeNewton(laws, S)
     for _ in range(500):
         _, a, b = both_newtons(python, compiled, laws, rng)
         if isinstance(a, str) or isinstance(b, str):

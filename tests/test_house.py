@@ -1,6 +1,9 @@
-"""House rules of the package (issue 35), read from its source with ast:
-no import cycle among vstpetsc's modules, no function over 60 lines, no
-class over 200.
+"""House rules of the package (issues 35 and 45), read from its source with
+ast: no import cycle among vstpetsc's modules, no function over 60 lines,
+no class over 200; the rooms of docs/architecture.md: the 1-D room
+(vstpetsc.line) and the 2-D room (vstpetsc.plane) never import each
+other, the shared rooms import neither but through vstpetsc.geometry, and
+petsc4py is imported only in vstpetsc.petsc and the rooms' solvers.
 
     .venv/bin/python tests/test_house.py      # prints every cycle and every long one
 
@@ -107,6 +110,64 @@ def cycles(graph):
     return found
 
 
+# The rooms (docs/architecture.md): two geometry rooms, and the shared
+# rooms and modules that serve both.
+GEOMETRY_ROOMS = ("vstpetsc.line", "vstpetsc.plane")
+GEOMETRY_PICKER = "vstpetsc.geometry"          # the one shared module that knows both
+PETSC_ROOMS = ("vstpetsc.petsc", "vstpetsc.line.solver", "vstpetsc.plane.solver")
+
+
+def room(module):
+    """The geometry room a module lies in, or None for a shared one."""
+    for name in GEOMETRY_ROOMS:
+        if module == name or module.startswith(name + "."):
+            return name
+    return None
+
+
+def inside(module, rooms):
+    return any(module == r or module.startswith(r + ".") for r in rooms)
+
+
+def room_breaches(graph):
+    """Every import that crosses the rooms' walls, a line each: one
+    geometry room importing the other, or a shared module (but the
+    geometry picker) importing a geometry room."""
+    out = []
+    for module, targets in sorted(graph.items()):
+        home = room(module)
+        for target, lines in sorted(targets.items()):
+            there = room(target)
+            if there is None or there == home or module == GEOMETRY_PICKER:
+                continue
+            what = "the other geometry room" if home else "a geometry room from a shared one"
+            out.append(f"{module} -> {target} (line {', '.join(map(str, lines))}): {what}")
+    return out
+
+
+def external_importers(name, root=ROOT):
+    """{module: [line numbers]} of the package's modules importing the
+    outside package ``name`` (anywhere in them)."""
+    out = {}
+    for module, path in modules(root).items():
+        with open(path) as f:
+            tree = ast.parse(f.read(), path)
+        for node in ast.walk(tree):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                     else [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level
+                     else [])
+            if any(n == name or n.startswith(name + ".") for n in names):
+                out.setdefault(module, []).append(node.lineno)
+    return out
+
+
+def petsc_breaches(root=ROOT):
+    """Modules importing petsc4py outside the rooms allowed to."""
+    return sorted(f"{m} (line {', '.join(map(str, lines))})"
+                  for m, lines in external_importers("petsc4py", root).items()
+                  if not inside(m, PETSC_ROOMS))
+
+
 def long_definitions(root=ROOT):
     """{"path:name": lines} of the functions over FUNCTION_LINES and the
     classes over CLASS_LINES, counted from ``def``/``class`` to the last
@@ -155,6 +216,50 @@ def test_no_import_cycle():
     assert not found, "import cycles:\n" + "\n".join(describe(graph, c) for c in found)
 
 
+def test_the_rooms_checker_sees_every_breach(tmp_path):
+    """A geometry room importing the other, a shared module importing a
+    room (inside a function too), the geometry picker allowed, and
+    petsc4py outside a solver: each found once."""
+    package = tmp_path / PACKAGE
+    for folder in ("line", "plane/solver", "runner"):
+        (package / folder).mkdir(parents=True)
+    for init in ("", "line", "plane", "plane/solver", "runner"):
+        (package / init / "__init__.py").write_text("")
+    (package / "line" / "model.py").write_text("from vstpetsc.plane import mesh\n")
+    (package / "plane" / "mesh.py").write_text("import numpy\n")
+    (package / "plane" / "solver" / "slab.py").write_text("from petsc4py import PETSc\n")
+    (package / "runner" / "loop.py").write_text(
+        "def f():\n    from vstpetsc.line import model\n    import petsc4py.PETSc\n")
+    (package / "geometry.py").write_text("from vstpetsc.line import model\nfrom vstpetsc.plane import mesh\n")
+    graph = import_graph(str(tmp_path))
+    assert room_breaches(graph) == [
+        "vstpetsc.line.model -> vstpetsc.plane.mesh (line 1): the other geometry room",
+        "vstpetsc.runner.loop -> vstpetsc.line.model (line 2): a geometry room from a shared one"]
+    assert petsc_breaches(str(tmp_path)) == ["vstpetsc.runner.loop (line 3)"]
+
+
+def test_the_rooms_keep_their_walls():
+    breaches = room_breaches(import_graph()) + petsc_breaches()
+    assert not breaches, "imports across the rooms' walls:\n" + "\n".join(breaches)
+
+
+def test_every_room_is_where_the_architecture_says():
+    """The package's folders are the rooms docs/architecture.md draws, and
+    each geometry room has the modules vstpetsc.geometry asks of it."""
+    package = os.path.join(ROOT, PACKAGE)
+    rooms = {name for name in os.listdir(package)
+             if os.path.isfile(os.path.join(package, name, "__init__.py"))}
+    assert rooms == {"input", "spacetime", "kernels", "materials", "native", "petsc", "runner",
+                     "results", "line", "plane"}
+    with open(os.path.join(ROOT, "docs", "architecture.md")) as f:
+        text = f.read()
+    assert all(f"**{room}/**" in text for room in rooms)
+    for geometry in GEOMETRY_ROOMS:
+        folder = os.path.join(ROOT, *geometry.split("."))
+        assert {"parts.py", "schema.py", "layout.py"} <= set(os.listdir(folder))
+        assert os.path.isdir(os.path.join(folder, "solver"))
+
+
 def test_no_long_function_or_class():
     long = long_definitions()
     assert set(long) <= LONG_AS_YET, {k: v for k, v in long.items() if k not in LONG_AS_YET}
@@ -165,6 +270,8 @@ if __name__ == "__main__":
     for component in cycles(graph):
         print("cycle:", " ".join(component))
         print(describe(graph, component))
+    for line in room_breaches(graph) + petsc_breaches():
+        print("breach:", line)
     for name, lines in long_definitions().items():
         print(f"{lines} lines: {name}" + (" (listed)" if name in LONG_AS_YET else ""))
     sys.exit(0)

@@ -8,6 +8,7 @@ from scipy import integrate
 
 from conftest import bar, make_case
 from vstpetsc.spacetime import slab
+from vstpetsc.line import bands
 from vstpetsc.spacetime.history import History
 from vstpetsc.kernels.gap import (closed_on_slab, closed_throughout, gap_coefficients,
     pair_integrals, roots01)
@@ -41,14 +42,14 @@ def test_slab_matrix_is_kronecker_form_and_csr_matches():
     n = M.shape[0]
     # interleaved per node: dof 2i + a
     A = np.kron(M, slab.HM) + dt ** 2 * np.kron(K, slab.HK)
-    blocks = slab.slab_matrix(lay, dt)
-    indptr, indices, data = slab.block_rows_csr(blocks, 0, n)
+    blocks = bands.slab_matrix(lay, dt)
+    indptr, indices, data = bands.block_rows_csr(blocks, 0, n)
     B = np.zeros((2 * n, 2 * n))
     for r in range(2 * n):
         B[r, indices[indptr[r]:indptr[r + 1]]] = data[indptr[r]:indptr[r + 1]]
     assert np.allclose(A, B)
     # a slice of rows gives the same rows
-    i2, j2, d2 = slab.block_rows_csr(blocks, 3, 6)
+    i2, j2, d2 = bands.block_rows_csr(blocks, 3, 6)
     assert np.array_equal(j2, indices[indptr[6]:indptr[12]])
     assert np.allclose(d2, data[indptr[6]:indptr[12]])
 
@@ -195,14 +196,14 @@ def test_running_sum_right_hand_side_equals_the_state_form(dt):
     rng = np.random.default_rng(5)
     W, V, gm, gk = slab.recurrence(dt)
     I = np.eye(n)
-    A = block_dense(slab.slab_matrix(lay, dt))
-    R = block_dense(slab.rhs_operator(lay, dt))
+    A = block_dense(bands.slab_matrix(lay, dt))
+    R = block_dense(bands.rhs_operator(lay, dt))
     Q = np.kron(I, slab.advance_block(dt))
     mask = np.tile([1.0, 0.0], n)
     WI, VI = np.kron(I, W), np.kron(I, V)
-    assert np.allclose(block_dense(slab.slab_matrix(lay, dt, W, V)), WI @ A @ VI)
-    assert np.allclose(block_dense(slab.rhs_operator(lay, dt, W)), WI @ R)
-    band = slab.increment_bands(lay, dt, 0, n)          # difference form: G's matrix
+    assert np.allclose(block_dense(bands.slab_matrix(lay, dt, W, V)), WI @ A @ VI)
+    assert np.allclose(block_dense(bands.rhs_operator(lay, dt, W)), WI @ R)
+    band = bands.increment_bands(lay, dt, 0, n)          # difference form: G's matrix
     G = np.zeros((2 * n, 2 * n))
     for i in range(n):
         for a in range(2):

@@ -8,6 +8,7 @@ import pytest
 from conftest import bar, make_case, solve
 from test_contact import FORMS, two_pair_solver
 from vstpetsc import native
+from vstpetsc.line.native import penalty as penalty_native
 from vstpetsc.errors import SolveFailed
 from vstpetsc.line.reduced_newton import ReducedNewton
 
@@ -22,7 +23,7 @@ def newtons(form):
     """(Python, compiled) Newtons on the same pairs and S."""
     s = two_pair_solver(form)
     laws, S = s.laws, s.nonlinear.coupling.S_red
-    return laws, ReducedNewton(laws, S), native.NativeNewton(laws, S)
+    return laws, ReducedNewton(laws, S), penalty_native.NativeNewton(laws, S)
 
 
 def run_both(laws, py, c, y0, gn, start):

@@ -212,12 +212,8 @@ def _run(rest):
 
 def _dry_run(case, out_path):
     """The model summary of ``case`` without solving anything."""
-    if case.plane is not None:
-        from vstpetsc.plane.model import summary
-        return summary(case, out_path)
-    from vstpetsc.runner.driver import describe_model
-    from vstpetsc.line.model import build_model
-    return describe_model(case, build_model(case), out_path)
+    from vstpetsc import geometry
+    return geometry.room(case).dry_run(case, out_path)
 
 
 def _solve(case, out_path, petsc_args, opts):

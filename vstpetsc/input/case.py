@@ -18,7 +18,6 @@ import tomllib
 
 from vstpetsc.input import schema, toml_text
 from vstpetsc.errors import CaseError
-from vstpetsc.input.schema import Body, BoundarySpec, ContactSpec  # noqa: F401  (re-exported)
 
 ARRAYS = {"body": "name", "contact": None, "bc": None, "soil": None, "gauge": "name",
           "region": "name", "boundary": "name"}

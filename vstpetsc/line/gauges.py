@@ -13,14 +13,7 @@ shear twin: ``shear_u``, ``shear_v``, ``shear_stress`` (G dw/dx),
 
 import numpy as np
 
-SERIES = ("u", "v", "stress", "strain")
-SHEAR = "shear_"        # the prefix of a gauge's shear series
-
-
-def gauge_path(name=None, key=None):
-    """The HDF5 path of the gauge group, of gauge ``name``, or of one of
-    its series."""
-    return "/".join(["gauge"] + [p for p in (name, key) if p is not None])
+from vstpetsc.results.layout import GAUGE_SERIES as SERIES, SHEAR, gauge_path
 
 
 def element_at(xs, x):

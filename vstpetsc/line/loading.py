@@ -11,26 +11,7 @@ Pure numpy.
 import numpy as np
 
 from vstpetsc.line.laws.base import FieldLoad
-
-BLOCK = 1024          # slabs evaluated at a time
-
-
-class Blocks:
-    """Per-slab arrays evaluated BLOCK slabs at a time by ``evaluate(k0,
-    k1)`` (slabs k0+1 .. k1): :meth:`at` gives the block holding slab k and
-    k's row in it."""
-
-    def __init__(self, evaluate):
-        self.evaluate = evaluate
-        self.block = (0, 0, None)          # (first slab - 1, last slab, arrays)
-
-    def at(self, k):
-        k0, k1, arrays = self.block
-        if not k0 < k <= k1:
-            k0, k1 = k - 1, k - 1 + BLOCK
-            arrays = self.evaluate(k0, k1)
-            self.block = (k0, k1, arrays)
-        return arrays, k - k0 - 1
+from vstpetsc.spacetime.blocks import Blocks
 
 
 class SlabLoads:

@@ -12,7 +12,7 @@ import numpy as np
 
 from vstpetsc import materials
 from vstpetsc.line.laws import build_laws
-from vstpetsc.input.schema import MASSES
+from vstpetsc.line.schema import MASSES
 from vstpetsc.line.shear import field_bodies
 
 

@@ -3,7 +3,7 @@
  * product (vstpetsc/native/closing.py): u += z_2, v = v1 z_1 + v2 z_2,
  * the elongations d of the node pairs, their envelopes lo <= d <= hi, the
  * energies of the state (kinetic 1/2 v^T M v, strain 1/2 sum k d^2) and
- * the running sum b += G z, G's three bands (slab.increment_bands,
+ * the running sum b += G z, G's three bands (bands.increment_bands,
  * difference form) laid out per dof row.
  *
  * The unknowns are mixed per node: z = (z_1, z_2) at x[2i], x[2i + 1].
@@ -37,7 +37,7 @@ typedef struct {
 } Close;
 
 /* b += G z on the dof rows r = lo .. hi - 1 in the difference form of
- * slab.increment_bands: L (x[r - 2] - x[r]) + D x[r] + R (x[r + 2] - x[r])
+ * bands.increment_bands: L (x[r - 2] - x[r]) + D x[r] + R (x[r + 2] - x[r])
  * summed from 0, left to right, then added to b, as the Python path
  * (petsc/slab_end.py) does on any number of ranks.  Every row here has
  * both neighbours on this rank, so the loop has no branch. */

@@ -1,6 +1,7 @@
 """The plane-strain matrices of a mesh: each cell kind's element matrices
 at once (vstpetsc.plane.elements), summed into sparse matrices over the
-unknowns (v_x, v_y) interleaved per node; PETSc's AIJ from them.
+unknowns (v_x, v_y) interleaved per node (PETSc's AIJ of them:
+vstpetsc.plane.solver.matrices).
 
 Materials are per cell (lambda, mu, rho arrays, from the regions)."""
 
@@ -58,18 +59,6 @@ def matrices(mesh, lam, mu, rho, mass="averaged"):
     K = assemble(mesh, [(cells, Ke) for cells, Ke, _ in parts.values()])
     M = assemble(mesh, [(cells, to_mass(Me)) for cells, _, Me in parts.values()])
     return M, K
-
-
-def petsc_matrix(A, comm=None):
-    """PETSc's AIJ of a CSR matrix: the whole matrix on one rank, or on
-    ``comm`` the rows a rank owns (global columns; local rows = columns)."""
-    from petsc4py import PETSc
-
-    A = A.tocsr()
-    A.sort_indices()
-    n, N = A.shape
-    return PETSc.Mat().createAIJ(((n, N), (n, N)), comm=comm or PETSc.COMM_SELF, csr=(
-        A.indptr.astype(PETSc.IntType), A.indices.astype(PETSc.IntType), A.data))
 
 
 def identity_rows(A, rows, first):

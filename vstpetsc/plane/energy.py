@@ -41,9 +41,8 @@ class RunEnergyBook(shared.EnergyBook):
     interfaces' (their energy is "contact")."""
 
     def __init__(self, model, solver):
-        self.model, self.solver = model, solver
-        self.initial = self.held0 = self.largest = self.beyond0 = 0.0
-        self.offset = dict.fromkeys(shared.SUMMED, 0.0)
+        super().__init__(model)
+        self.solver = solver
         self.first = (0.0, 0.0)
 
     def state(self, u, v, d=None, known=None):

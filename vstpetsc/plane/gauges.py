@@ -6,7 +6,7 @@ each.  Pure numpy."""
 
 import numpy as np
 
-from vstpetsc.line.gauges import gauge_path
+from vstpetsc.results.layout import gauge_path
 
 KEYS = ("u", "v")
 

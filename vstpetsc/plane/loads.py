@@ -2,13 +2,13 @@
 force integrals int T_a f dt of its loads (a nodal pattern times a
 history each: tractions, incident waves, gravity) and the velocities of
 its held dofs.  Histories are evaluated for blocks of slabs at a time,
-exactly (their own slab integrals), as vstpetsc.line.loading does in 1-D.
+exactly (their own slab integrals, vstpetsc.spacetime.blocks).
 Pure numpy and scipy."""
 
 import numpy as np
 import scipy.sparse as sp
 
-from vstpetsc.line.loading import Blocks
+from vstpetsc.spacetime.blocks import Blocks
 
 
 class PlaneLoads:

@@ -21,7 +21,7 @@ by PlaneModel.closed_springs) and Newton sees only e = f - W_c y
 (``excess``, its tangent ``excess_tangent``).
 
 Default stiffnesses per unit length (docs/interfaces.md): the 1-D
-rules (laws.penalty.default_penalty, laws.friction.BETA) with the
+rules (vstpetsc.kernels.stiffness: DEFAULT_BETA, STICK_BETA) with the
 adjacent cells' lambda + 2 mu (normal) or mu (tangential) for E and
 their size across the curve for h, the stiffest edge's."""
 
@@ -29,8 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vstpetsc.line.laws import friction as friction_law
-from vstpetsc.line.laws.penalty import DEFAULT_BETA
+from vstpetsc.kernels.stiffness import DEFAULT_BETA, STICK_BETA
 from vstpetsc.plane import pair_kernels as pk
 from vstpetsc.results.plane_layout import PAIR_SERIES as SERIES
 from vstpetsc.spacetime.slab import HK
@@ -90,7 +89,7 @@ def default_stiffnesses(mesh, materials, edges, formulation, dt):
         penalty = DEFAULT_BETA["power"] / (1.0 / normal).sum(axis=0)
     else:
         penalty = 2.0 * DEFAULT_BETA["seed"] * normal.max(axis=0) / dt
-    tangential = friction_law.BETA / (1.0 / shear).sum(axis=0)
+    tangential = STICK_BETA / (1.0 / shear).sum(axis=0)
     return float(penalty.max()), float(tangential.max())
 
 

@@ -9,7 +9,9 @@ import math
 import os
 from dataclasses import dataclass, field
 
+from vstpetsc.results.plane_layout import COMPONENTS
 from vstpetsc.input.checker import is_number, name_problem, show
+from vstpetsc.input.tables import read_gravity
 from vstpetsc.spacetime.history import History
 
 ONE_D = ("body", "contact", "bc", "soil")
@@ -22,7 +24,6 @@ BOUNDARY_KEYS = ("name", "type", "value", "rock", "incident", "motion")
 TYPES = ("fixed", "velocity", "traction", "absorbing")
 MASSES = ("averaged", "consistent", "lumped")
 MOTIONS = ("incident", "outcrop")
-COMPONENTS = ("x", "y")
 INTERFACE_KEYS = ("name", "friction", "formulation", "penalty")
 FORMULATIONS = ("power", "seed")
 
@@ -106,7 +107,7 @@ def is_plane(doc):
     return isinstance(doc, dict) and "mesh" in doc
 
 
-def read(chk, doc):
+def read_start(chk, doc):
     """{"plane": PlaneSpec, "gauges": [...], "gravity_axis": "y"} after
     reporting every problem of the 2-D tables."""
     for key in ONE_D:
@@ -120,6 +121,18 @@ def read(chk, doc):
     interfaces = read_interfaces(chk, chk.tables(doc, "interface"), boundaries)
     return {"plane": PlaneSpec(mesh, regions, boundaries, interfaces),
             "gauges": read_gauges(chk, chk.tables(doc, "gauge"))}
+
+
+def read_rest(chk, doc, parts):
+    """The rest of a plane-strain case's parts (no bodies, pairs, ends or
+    soil) into ``parts``."""
+    parts["gravity"] = read_gravity(chk, chk.table(doc, "gravity", "gravity", required=False),
+                                    [])
+    moved = [r.name for r in parts["plane"].regions if any(r.u0)]
+    if parts["gravity"] is not None and parts["gravity"].initial == "static" and moved:
+        chk.add("gravity.initial", f"\"static\" computes the initial displacements; "
+                f"region {moved[0]!r} gives u0 as well")
+    parts.update(bodies=[], contacts=[], bcs=[], soils=[])
 
 
 def read_mesh(chk, tbl):

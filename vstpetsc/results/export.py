@@ -48,8 +48,8 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from vstpetsc.line.gauges import SERIES as GAUGE_SERIES, SHEAR
-from vstpetsc.plane.schema import COMPONENTS
+from vstpetsc.results.layout import GAUGE_SERIES, SHEAR
+from vstpetsc.results.plane_layout import COMPONENTS
 from vstpetsc.results import layout, plane_layout
 
 KEPT_GROUPS = ("energy", "solver")

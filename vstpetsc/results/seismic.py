@@ -5,11 +5,10 @@ tables and their one-screen summaries, and the peak profiles over x that
 
 import numpy as np
 
-from vstpetsc.plane import schema as plane_schema
 from vstpetsc.results import layout
+from vstpetsc.results.plane_layout import COMPONENTS as PLANE_COMPONENTS  # a 2-D gauge's columns of v
 
 COMPONENTS = ("shear", "axial")
-PLANE_COMPONENTS = plane_schema.COMPONENTS      # a plane-strain gauge's columns of v
 BAND = 0.01                          # the summary's band: input amplitude >= 1 % of its peak
 STRAIN_MAX = "shear/strain_max"      # the largest |dw/dx| per element, when the law writes it
 
@@ -94,18 +93,14 @@ def element_modulus(result, body, shear):
     """E (or G with ``shear``) of each element of ``body``, from the
     result's case as the run meshed it; None if the case cannot be read
     (a moved result whose input files are gone)."""
+    from vstpetsc import geometry
     from vstpetsc.errors import CaseError, InputError
-    from vstpetsc.line.model import build_mesh
-    from vstpetsc.line.shear import field_bodies
 
     try:
         case = result.case()
     except (CaseError, InputError, OSError):
         return None
-    bodies, twins = field_bodies(case.bodies)
-    mesh = build_mesh(bodies, len(case.bodies), twins)
-    b = [c.name for c in case.bodies].index(body)
-    return mesh.E[mesh.elements(twins[b] if shear else b)]
+    return geometry.room(case).element_modulus(case, body, shear)
 
 
 def peak_profiles(result, body):

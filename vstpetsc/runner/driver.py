@@ -12,15 +12,11 @@ import time
 import numpy as np
 from dataclasses import dataclass
 
-from vstpetsc.line import model as model_mod
-from vstpetsc.runner.energy import EnergyBook
+from vstpetsc import geometry
 from vstpetsc.errors import InputError, Interrupted, SolveFailed
-from vstpetsc.line.loading import SlabLoads
 from vstpetsc.runner.recorder import Recorder, load_restart
-from vstpetsc.results import layouts
 from vstpetsc.results.files import foreign, path_problem, same_file
 from vstpetsc.results.reader import Result
-from vstpetsc.line.shear import is_twin
 
 
 @dataclass
@@ -136,60 +132,20 @@ class TimeLoop:
         self.case, self.output, self.comm = case, output, comm
         self.talk = comm.getRank() == 0 and not quiet
         self.out, self.err = out, err
-        self.static = None
         self.start = time.perf_counter()
         try:
-            if case.plane is not None:
-                options = self._plane_parts(case, comm)
-            else:
-                options = self._line_parts(case, comm)
+            parts = geometry.room(case).run_parts(case, comm)
         except Exception as exc:
             error = setup_error(exc)
             if error is None:
                 raise
             raise error from None
+        self.model, self.loads, self.solver = parts.model, parts.loads, parts.solver
+        self.energy, self.static = parts.energy, parts.static
         self.setup_time = time.perf_counter() - self.start
         self.space = self.solver.space
-        self.recorder = Recorder(output, self.model, self.solver, comm, options.flush_interval,
-                                 self.energy)
-
-    def _line_parts(self, case, comm):
-        """The model, loads, solver and energy book of a 1-D case; returns
-        the run's SolverOptions."""
-        from vstpetsc.petsc.options import SolverOptions
-        from vstpetsc.line.solver.slab_solver import SlabSolver
-
-        self.model = model_mod.build_model(case)
-        if case.gravity is not None and case.gravity.initial == "static":
-            from vstpetsc.line.static import static_state       # scipy: only here
-            self.static = static_state(self.model, case.dt)
-            self.model.laws.append(self.static.reactions)
-        options = SolverOptions.read(self.model.mesh.nnodes, comm.getSize())
-        self.loads = SlabLoads(self.model.laws, case.dt)
-        self.solver = SlabSolver(self.model, case.dt, comm, options, self.loads)
-        self.energy = EnergyBook(self.model)
-        return options
-
-    def _plane_parts(self, case, comm):
-        """The same of a plane-strain case (vstpetsc.plane)."""
-        from vstpetsc.petsc.options import SolverOptions
-        from vstpetsc.plane.energy import RunEnergyBook
-        from vstpetsc.plane.loads import plane_loads
-        from vstpetsc.plane.model import PlaneModel
-        from vstpetsc.plane.solver.slab_solver import PlaneSolver
-
-        self.model = PlaneModel(case, comm)
-        extra = ()
-        if case.gravity is not None and case.gravity.initial == "static":
-            from vstpetsc.plane.loads import gravity_pattern
-            from vstpetsc.plane.solver.static import static_state
-
-            self.static = static_state(self.model, gravity_pattern(self.model))
-            extra = (self.static.reactions,)
-        self.loads = plane_loads(self.model, case.dt, extra)
-        self.solver = PlaneSolver(self.model, case.dt, comm, self.loads)
-        self.energy = RunEnergyBook(self.model, self.solver)
-        return SolverOptions.read(self.model.nnodes, comm.getSize())
+        self.recorder = Recorder(output, self.model, self.solver, comm,
+                                 parts.options.flush_interval, self.energy)
 
     def execute(self, restart, petsc_options):
         """Solve every slab; return a RunInfo."""
@@ -227,7 +183,7 @@ class TimeLoop:
 
     def _attrs(self, petsc_options):
         """The root attributes of the result file."""
-        case, lay = self.case, layouts.of(self.model)
+        case, lay = self.case, geometry.layout(self.model)
         return {"case": case.text, "case_folder": case.folder,
                 "input_digests": json.dumps(case.input_digests, sort_keys=True),
                 "petsc_options": petsc_options,
@@ -293,24 +249,8 @@ def header(case, model, output, solver, size):
 
 
 def describe_model(case, model, output):
-    """The model summary: bodies, nodes, slabs, and a line per law."""
-    if case.plane is not None:          # printed on rank 0, which holds the whole mesh
-        from vstpetsc.plane.model import summary
-        return summary(case, output, model.mesh, model.infos)
-    mesh = model.mesh
-    lines = [f"vstpetsc: {case.source}",
-             f"  {len(case.bodies)} bodies, {mesh.nnodes} nodes, {mesh.elem_node.size} "
-             f"elements; dt = {case.dt:g}, {case.nslabs} slabs to t = "
-             f"{case.nslabs * case.dt:g}; keep every {case.every}; result: {output}"]
-    for i, b in enumerate(model.bodies):
-        el = mesh.elements(i)
-        c = np.sqrt(mesh.E[el] / mesh.rho[el])
-        courant = (c * case.dt / mesh.h[el]).max()
-        speed = f"{c[0]:.6g}" if np.ptp(c) == 0 else f"{c.min():.6g} .. {c.max():.6g}"
-        lines.append(f"  body {b.name}: x = [{b.x[0]:g}, {b.x[1]:g}], {b.elements} elements,"
-                     f" {'Vs' if is_twin(b.name) else 'c'} = {speed}, c dt / h = {courant:.3g}")
-    lines += [f"  {law.describe()}" for law in model.laws if law.describe()]
-    return "\n".join(lines)
+    """The model summary of the case's room."""
+    return geometry.room(case).describe(case, model, output)
 
 
 class Progress:

@@ -10,7 +10,8 @@ import numpy as np
 
 from vstpetsc.runner.energy import BALANCE, largest_term
 from vstpetsc.errors import InputError, SolveFailed
-from vstpetsc.results import layout, layouts
+from vstpetsc import geometry
+from vstpetsc.results import layout
 
 
 class Recorder:
@@ -24,7 +25,7 @@ class Recorder:
         self.size = comm.getSize()
         self.interval = interval
         self.writer, self.lock = None, None
-        self.layout = layouts.of(model)
+        self.layout = geometry.layout(model)
         self.rows = self.layout.RowFiller(model)
         self.event_sets = self.layout.event_sets(model)
         if self.rank0 and solver.serial and solver.native:
@@ -101,8 +102,8 @@ class Recorder:
             # a series of several values (a 2-D gauge's x, y) takes as many columns
             self.gauge_order = np.concatenate([np.atleast_1d(column[n])
                                                for n in self.writer.gauges.names])
-            from vstpetsc.line.native.gauge_row import GaugeRow
-            self.compiled_gauges = GaugeRow.of(self.gauges, self.solver, self.gauge_order)
+            self.compiled_gauges = self.layout.compiled_gauges(self.gauges, self.solver,
+                                                               self.gauge_order)
 
     def _snapshots(self, rhs=True):
         """The state a restart needs, on rank 0: the envelopes and (``rhs``)
@@ -222,7 +223,7 @@ def load_restart(path, case, model, energy):
         if "solver/slab" not in f or "case" not in f.attrs:
             raise InputError(f"--restart: {path} has no restart data (not a vstpetsc result)")
         _check_continues(f, path, case)
-        lay = layouts.of(model)
+        lay = geometry.layout(model)
         missing = [name for name, _ in lay.series(model) if name not in f] + \
             [name for _, name in lay.event_sets(model) if name not in f]
         if missing:

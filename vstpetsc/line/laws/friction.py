@@ -26,20 +26,9 @@ import numpy as np
 
 from vstpetsc.line.laws.base import Law
 from vstpetsc.kernels.coulomb import friction_integrals
-from vstpetsc.line.laws.penalty import default_penalty
+from vstpetsc.kernels.stiffness import STICK_BETA, default_penalty
 
-SERIES = ("shear_force", "slip", "shear_stretch")
-# the tangential stiffness k_t = BETA times the shear stiffnesses G A / h of
-# the pair's end elements in series (the normal penalty's rule with G for
-# E, penalty.default_penalty).  Stiff, unlike the normal default (0.5): the
-# force is capped at mu N, so a stiff stick spring cannot overshoot as an
-# impact does, and its compliance mu N / k_t is elastic slip that delays
-# every stop.  A flexible column on a Coulomb base, 16 / 32 / 64 elements,
-# final slip against tests/references/coulomb_column.py on the same mesh: 3.6 / 2.0 /
-# 1.0 % off at 0.5, 0.20 / 0.065 / 0.013 % at 32; 256 gains little more
-# and costs twice the time (docs/shear.md)
-BETA = 32.0
-# slabs whose wall velocities one call of the wall's history gives (a call
+SERIES = ("shear_force", "slip", "shear_stretch")# slabs whose wall velocities one call of the wall's history gives (a call
 # per slab cost more than the compiled slab's friction)
 WALL_CHUNK = 512
 
@@ -68,7 +57,7 @@ class CoulombFriction(Law):
         # the default normal penalty's rule with G for E (docs/shear.md)
         self.stiffness = default_penalty(
             "power", [mesh.body_stiffness(twins[b]) for b in (spec.left, spec.right)
-                      if b is not None], case.dt, BETA)
+                      if b is not None], case.dt, STICK_BETA)
         self.stretch = self.slip = self.mean_force = 0.0
         self.wall_v = (0.0, 0.0)
         self.wall_times = []    # slab start times of the wall velocities at hand ...

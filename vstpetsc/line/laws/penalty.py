@@ -15,6 +15,7 @@ follows the arriving wave (docs/accuracy.md).
 
 from vstpetsc.kernels.coulomb import penalty_normal
 from vstpetsc.kernels.gap import active_intervals, closed_on_slab, gap_coefficients, pair_integrals
+from vstpetsc.kernels.stiffness import default_penalty
 from vstpetsc.line.laws.pair import PairLaw
 
 KEYS = ("penalty", "redistribute_mass")
@@ -25,11 +26,6 @@ DEFAULT_FORMULATION = "power"
 # closes in nine impacts); a hundredth rings far above 1 / dt, where the
 # scheme damps it, and the nine impacts close nine times
 KEPT_FRACTION = 0.01
-# the default penalty as a multiple of the bodies' largest E A / h (in
-# series for "power", the stiffer one's for "seed"; default_penalty): soft
-# for "power" (the force then follows the arriving wave; docs/accuracy.md),
-# the seed's old value for "seed" (its results kept bit for bit)
-DEFAULT_BETA = {"power": 0.5, "seed": 50.0}
 
 
 def read(chk, tbl, where):
@@ -49,28 +45,6 @@ def read(chk, tbl, where):
     return {"penalty": penalty, "redistribute_mass": moved}
 
 
-def default_penalty(formulation, stiffnesses, dt, beta=None):
-    """Penalty used when the case gives none, from the largest E A / h of
-    each body at the pair (one for a wall pair).
-
-    "power": k = beta K with K the bodies' stiffnesses in series (a wall
-    is rigid): the spring then loads the impedance it sees, the bodies' in
-    series, with the same rise time Z / k whether it meets a wall or another
-    body (two equal bars: K = E A / 2h, the peak force as on a wall;
-    docs/accuracy.md).  "seed": eps = 2 k / dt with k = beta times the
-    stiffer body's K, the seed's penalty with that slab-mean force per unit
-    penetration (its residual weight I_a carries one more power of time, so
-    eps has units of force / (length time)).  formulation.md section 4 once
-    suggested ``beta (E A / h) / dt^2``, which is not dimensionally
-    consistent (the contact stiffness would change with the unit of time),
-    so 1/dt.
-    """
-    beta = DEFAULT_BETA[formulation] if beta is None else beta
-    if formulation == "power":
-        return beta / sum(1.0 / k for k in stiffnesses)
-    return 2.0 * beta * max(stiffnesses) / dt
-
-
 class PenaltyContact(PairLaw):
     """A seed or power penalty pair (``spec.formulation``)."""
 
@@ -88,7 +62,7 @@ class PenaltyContact(PairLaw):
         self.last = None
         self.rates = None           # the closing rates of the last force() that acted
         # its active pieces of the slab when the compiled slab found them
-        # (vstpetsc.native.PenaltySlab), else None: finish_slab finds them
+        # (vstpetsc.penalty_native.PenaltySlab), else None: finish_slab finds them
         self.pieces = None
 
     def add_operators(self, ops):

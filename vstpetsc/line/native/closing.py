@@ -11,7 +11,8 @@ import ctypes
 
 import numpy as np
 
-from vstpetsc.spacetime import slab
+
+from vstpetsc.line import bands
 from vstpetsc.native import bind, library
 
 _P = ctypes.c_void_p
@@ -43,7 +44,7 @@ class SlabClose:
 
     def __init__(self, lib, solver, ops, halo=None):
         n0, n1 = solver.space.nodes
-        band = slab.increment_bands(ops, solver.dt, n0, n1)            # (nl, 2, 3)
+        band = bands.increment_bands(ops, solver.dt, n0, n1)            # (nl, 2, 3)
         env = solver.envelope
         # strain 1/2 sum (-k_off) d^2 over the pairs of owned nodes
         self.arrays = {"x": solver.x, "b": solver.br, "u": solver.u, "v": solver.v,

@@ -11,7 +11,8 @@ import numpy as np
 
 from vstpetsc.line.laws.friction import CoulombFriction
 from vstpetsc.line.laws.penalty import PenaltyContact
-from vstpetsc.native import Frictions, bind
+from vstpetsc.line.native.penalty import Frictions
+from vstpetsc.native import bind
 
 _P = ctypes.c_void_p
 

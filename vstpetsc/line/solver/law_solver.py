@@ -6,6 +6,8 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc import native
+
+from vstpetsc.line.native import penalty as penalty_native
 from vstpetsc.line.native import smith_slab
 from vstpetsc.line.lawset import LawSet
 from vstpetsc.line.solver.influence import LawInfluence
@@ -78,9 +80,9 @@ class LawSolver:
                 # Smith soil: the whole slab compiled, steps on A's bands
                 # (or on a dense S for few laws on many nodes)
                 self.newton = self._smith_slab(solver, tolerances)
-            elif compiled and native.takes(self.laws.laws):
+            elif compiled and penalty_native.takes(self.laws.laws):
                 # the whole slab of the pairs in one compiled call
-                self.newton = native.PenaltySlab(self.laws, self.coupling.S_red,
+                self.newton = penalty_native.PenaltySlab(self.laws, self.coupling.S_red,
                                                  self.coupling.R0, self.f, **tolerances)
             else:
                 kind = ManyLawNewton if len(self.laws.laws) > MANY else ReducedNewton
@@ -99,7 +101,7 @@ class LawSolver:
     def solve(self, X, b, dt, slab_index):
         """Newton if a law acts for the law-free solution X (updated in
         place); returns the Newton iterations."""
-        if isinstance(self.newton, native.PenaltySlab):
+        if isinstance(self.newton, penalty_native.PenaltySlab):
             return self._solve_compiled(X, b, dt, slab_index)
         if isinstance(self.newton, smith_slab.SmithSlab):
             return self._solve_smith(dt, slab_index)
@@ -153,7 +155,7 @@ class LawSolver:
     def _solve_compiled(self, X, b, dt, slab_index):
         """solve() for penalty pairs and their friction: one call for the
         slab's start, test, guess, Newton and work
-        (:class:`vstpetsc.native.PenaltySlab`); on one rank it reads X and
+        (:class:`vstpetsc.penalty_native.PenaltySlab`); on one rank it reads X and
         subtracts the pairs' influence itself."""
         step = self.newton
         if not step.bound:
@@ -194,7 +196,7 @@ class LawSolver:
             if self.acted and self.heads:
                 self.work["transferred"] += transferred
             return
-        if isinstance(self.newton, native.PenaltySlab) and self.newton.serial:
+        if isinstance(self.newton, penalty_native.PenaltySlab) and self.newton.serial:
             self.newton.advance(self.acted)      # bound to the solver's arrays
         else:
             self.laws.u += self.coupling.increments(X)
@@ -237,7 +239,7 @@ def describe_newton(newton, reduced):
         how = "a dense S" if newton.dense else "the slab matrix's bands"
         return (f"; Newton: plain, compiled, on the laws' {reduced} coordinates"
                 f" (steps on {how})")
-    if isinstance(newton, native.NativeNewton):
+    if isinstance(newton, penalty_native.NativeNewton):
         return f"; Newton: plain, compiled, on the laws' {reduced} coordinates"
     if isinstance(newton, ReducedNewton):      # ManyLawNewton too
         return f"; Newton: plain, on the laws' {reduced} coordinates"

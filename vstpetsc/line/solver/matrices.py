@@ -4,7 +4,8 @@ rank holding the rows of its nodes n0..n1-1."""
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc.spacetime import slab
+
+from vstpetsc.line import bands
 
 
 def block_matrix(blocks, nodes, comm, mat_type="baij"):
@@ -14,12 +15,12 @@ def block_matrix(blocks, nodes, comm, mat_type="baij"):
     n0, n1 = nodes
     nloc, nglob = 2 * (n1 - n0), 2 * blocks.shape[0]
     if mat_type == "aij":
-        indptr, indices, data = slab.block_rows_csr(blocks, n0, n1)
+        indptr, indices, data = bands.block_rows_csr(blocks, n0, n1)
         mat = PETSc.Mat().createAIJ(size=((nloc, nglob), (nloc, nglob)), bsize=2,
                                     csr=(indptr.astype(PETSc.IntType),
                                          indices.astype(PETSc.IntType), data), comm=comm)
     else:
-        indptr, indices, data = slab.block_rows_bcsr(blocks, n0, n1)
+        indptr, indices, data = bands.block_rows_bcsr(blocks, n0, n1)
         mat = PETSc.Mat().createBAIJ(size=((nloc, nglob), (nloc, nglob)), bsize=2,
                                      csr=(indptr.astype(PETSc.IntType),
                                           indices.astype(PETSc.IntType),

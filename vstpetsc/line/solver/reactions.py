@@ -10,6 +10,8 @@ from petsc4py import PETSc
 
 from vstpetsc.spacetime import slab
 
+from vstpetsc.line import bands
+
 
 class Reactions:
     """The constrained nodes' original rows (a small matrix B) and their
@@ -23,8 +25,8 @@ class Reactions:
         nodes = np.unique(np.asarray(nodes, dtype=int))
         own = nodes[(nodes >= n0) & (nodes < n1)]
         self.rows = (2 * (own - n0)[:, None] + np.arange(2)).ravel()
-        blocks = slab.slab_matrix(ops, dt, W, V)
-        indptr, indices, data = slab.node_rows_csr(blocks, own)
+        blocks = bands.slab_matrix(ops, dt, W, V)
+        indptr, indices, data = bands.node_rows_csr(blocks, own)
         nrows, total = 2 * own.size, 2 * nodes.size
         self.B = PETSc.Mat().createAIJ(
             size=((nrows, total), (2 * (n1 - n0), 2 * ops.m_diag.size)),

@@ -7,7 +7,8 @@ reference the compiled one is tested against."""
 
 import numpy as np
 
-from vstpetsc.spacetime import slab
+
+from vstpetsc.line import bands
 from vstpetsc.line.solver.space import DofGather
 
 
@@ -53,7 +54,7 @@ class SlabEnd:
 
 class Increment:
     """The running-sum increment b += G z in the difference form of
-    slab.increment_bands, on this rank's rows: numpy on the ghosted local
+    bands.increment_bands, on this rank's rows: numpy on the ghosted local
     vector of the DMDA (several ranks) or on z itself (one rank), with
     slab_close.c's operations in its order (elementwise ufuncs, each
     rounded), so that every path and every number of ranks gives the same
@@ -62,7 +63,7 @@ class Increment:
     def __init__(self, ops, dt, space, x):
         n0, n1 = space.nodes
         nl = n1 - n0
-        band = slab.increment_bands(ops, dt, n0, n1)                   # (nl, 2, 3)
+        band = bands.increment_bands(ops, dt, n0, n1)                   # (nl, 2, 3)
         self.left, self.diag, self.right = (band[:, :, j].copy() for j in range(3))
         self.first = 1 if n0 == 0 else 0              # owned rows with a left neighbour
         self.last = nl - 1 if n1 == ops.m_diag.size else nl   # ... with a right one

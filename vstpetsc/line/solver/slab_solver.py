@@ -18,6 +18,8 @@ import math
 import numpy as np
 
 from vstpetsc.spacetime import slab
+
+from vstpetsc.line import bands
 from vstpetsc.line.envelope import StressEnvelope
 from vstpetsc.errors import SolveFailed
 from vstpetsc.line.loading import SlabLoads
@@ -125,7 +127,7 @@ class SlabSolver:
         """The block bands (N, 3, 2, 2) of A: the slab matrix in the mixed
         unknowns and rows, prescribed rows replaced by identities."""
         fixed = (2 * self.fixed_nodes[:, None] + np.arange(2)).ravel()
-        return slab.impose_dirichlet(slab.slab_matrix(self.ops, self.dt, self.W, self.V),
+        return bands.impose_dirichlet(bands.slab_matrix(self.ops, self.dt, self.W, self.V),
                                      fixed, 1.0)
 
     def describe(self):
@@ -184,8 +186,8 @@ class SlabSolver:
         plus the constant body forces; ``envelope`` (lo, hi) of every
         element continues a restart's envelopes."""
         n0, n1 = self.space.nodes
-        R = slab.rhs_operator(self.ops, self.dt, self.W)
-        self.br[:] = slab.apply_blocks(R, np.column_stack([u, v]), n0, n1).ravel()
+        R = bands.rhs_operator(self.ops, self.dt, self.W)
+        self.br[:] = bands.apply_blocks(R, np.column_stack([u, v]), n0, n1).ravel()
         self.fields.fold(self.br)
         self.u[:] = u[n0:n1]
         self.forces.open = None

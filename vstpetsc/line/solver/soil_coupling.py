@@ -6,7 +6,8 @@ A + that tangent."""
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc.spacetime import slab
+
+from vstpetsc.line import bands
 from vstpetsc.line.solver.space import DofGather
 
 
@@ -126,7 +127,7 @@ class TangentFactors:
         n0, n1 = solver.space.nodes
         self.P = block_matrix(blocks, (n0, n1), comm)
         self.lu = self._factors(comm)
-        indptr, indices, data = slab.block_rows_bcsr(blocks, n0, n1)
+        indptr, indices, data = bands.block_rows_bcsr(blocks, n0, n1)
         self.csr = (indptr.astype(PETSc.IntType), indices.astype(PETSc.IntType))
         self.data = np.ascontiguousarray(data)
         self.base = self.data.copy()

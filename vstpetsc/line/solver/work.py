@@ -3,12 +3,14 @@ dashpots, int v^T C v dt = z^T D z with D = V^T (dt HC) V (x) C in the
 solver's unknowns, one product and one dot a slab when C is not zero."""
 
 from vstpetsc.spacetime import slab
+
+from vstpetsc.line import bands
 from vstpetsc.line.solver.matrices import block_matrix
 
 
 class DampingWork:
     def __init__(self, space, ops, dt, V, mat_type):
-        self.D = block_matrix(slab.node_blocks(ops, c=V.T @ (dt * slab.HC) @ V), space.nodes,
+        self.D = block_matrix(bands.node_blocks(ops, c=V.T @ (dt * slab.HC) @ V), space.nodes,
                               space.comm, mat_type) if ops.damped else None
         self.Dz = space.vector() if self.D is not None else None
 

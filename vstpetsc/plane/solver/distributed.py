@@ -22,6 +22,7 @@ from petsc4py import PETSc
 from vstpetsc.plane import assembly
 from vstpetsc.plane.solver.dmplex import _cells
 from vstpetsc.plane.mesh import PlaneMesh
+from vstpetsc.plane.solver.matrices import petsc_matrix
 
 
 @dataclass
@@ -178,4 +179,4 @@ def matrices(local, lam, mu, rho, mass="averaged"):
     to_mass = elements.MASSES[mass]
     K = owned_rows(local, [(cells, Ke) for cells, Ke, _ in parts.values()])
     M = owned_rows(local, [(cells, to_mass(Me)) for cells, _, Me in parts.values()])
-    return assembly.petsc_matrix(M, local.comm), assembly.petsc_matrix(K, local.comm)
+    return petsc_matrix(M, local.comm), petsc_matrix(K, local.comm)

@@ -18,19 +18,13 @@ from petsc4py import PETSc
 
 from vstpetsc.spacetime import slab
 from vstpetsc.errors import SolveFailed
-from vstpetsc.line.solver.space import Space
-from vstpetsc.plane.assembly import identity_rows, petsc_matrix
-from vstpetsc.plane.solver.stepper import linear_solver
+from vstpetsc.petsc.ranks import Ranks
+from vstpetsc.plane.assembly import identity_rows
+from vstpetsc.plane.solver.matrices import petsc_matrix
+from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
 from vstpetsc.results import layout
 
 SUMS = ("damping", "external", "contact", "friction")
-
-
-class PlaneSpace(Space):
-    """The collective helpers of Space on ``comm``, without a DMDA."""
-
-    def __init__(self, comm):
-        self.comm = comm
 
 
 class NoLaws:
@@ -46,7 +40,7 @@ class PlaneSolver:
 
     def __init__(self, model, dt, comm, loads):
         self.model, self.dt, self.comm, self.loads = model, dt, comm, loads
-        self.space = PlaneSpace(comm)
+        self.space = Ranks(comm)
         self.laws = NoLaws()
         M, C, K = model.matrices()
         first = model.first
@@ -68,8 +62,9 @@ class PlaneSolver:
         self.courant = model.courant(dt)
         self.ksp = linear_solver(self.A, comm, self.courant)
         self.x, self.b = self.A.createVecs()
-        self.mv, self.ku = self.M.createVecs()
-        self.v_vec, self.u_vec = self.M.createVecs()
+        self.products = StateProducts(self.M, self.K)
+        self.mv, self.ku = self.products.mv, self.products.ku
+        self.v_vec, self.u_vec = self.products.v_vec, self.products.u_vec
         self.c1, self.c2 = self.M.createVecs()
         n = M.shape[0]
         self.u, self.v = np.zeros(n), np.zeros(n)
@@ -119,18 +114,13 @@ class PlaneSolver:
         alike."""
         if self._products_fresh:
             return
-        self.v_vec.setArray(self.v)
-        self.u_vec.setArray(self.u)
-        self.M.mult(self.v_vec, self.mv)
-        self.K.mult(self.u_vec, self.ku)
+        self.products.form(self.u, self.v)
         self._products_fresh = True
 
     def rhs(self, forces, velocities, fields=None):
         self._state_products()
-        ku = self.ku.getArray(readonly=True)
         r = self.b.getArray()
-        r[0::2] = self.mv.getArray(readonly=True) - 0.5 * self.dt * ku
-        r[1::2] = -0.5 * self.dt * ku
+        self.products.rhs(r, self.dt)
         if forces is not None:
             r += forces.ravel()
         self.forces = forces

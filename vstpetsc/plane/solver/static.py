@@ -21,7 +21,8 @@ from petsc4py import PETSc
 
 from vstpetsc.errors import InputError
 from vstpetsc.spacetime.history import History
-from vstpetsc.plane.assembly import identity_rows, petsc_matrix
+from vstpetsc.plane.assembly import identity_rows
+from vstpetsc.plane.solver.matrices import petsc_matrix
 
 PREFIX = "vst_static_"
 SETTLE_ROUNDS = 30

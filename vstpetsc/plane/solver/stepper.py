@@ -16,7 +16,8 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.spacetime import slab
-from vstpetsc.plane.assembly import identity_rows, petsc_matrix
+from vstpetsc.plane.assembly import identity_rows
+from vstpetsc.plane.solver.matrices import petsc_matrix
 
 PREFIX = "vst_plane_"
 
@@ -76,6 +77,29 @@ def linear_solver(A, comm, courant=None):
     return ksp
 
 
+class StateProducts:
+    """M v and K u of a state (u, v) (this rank's entries), in PETSc
+    vectors kept for the run, and a slab's right-hand side from them:
+    r = [M v - dt/2 K u, -dt/2 K u] (interleaved, formulation.md)."""
+
+    def __init__(self, M, K):
+        self.M, self.K = M, K
+        self.mv, self.ku = M.createVecs()
+        self.v_vec, self.u_vec = M.createVecs()
+
+    def form(self, u, v):
+        self.v_vec.setArray(v)
+        self.u_vec.setArray(u)
+        self.M.mult(self.v_vec, self.mv)
+        self.K.mult(self.u_vec, self.ku)
+
+    def rhs(self, r, dt):
+        """r (interleaved v^1, v^2 rows) from the formed products."""
+        ku = self.ku.getArray(readonly=True)
+        r[0::2] = self.mv.getArray(readonly=True) - 0.5 * dt * ku
+        r[1::2] = -0.5 * dt * ku
+
+
 class PlaneSlabs:
     """Slabs of dt for the spatial matrices M, C (or None), K (CSR, 2
     dofs a node: whole, or a rank's owned rows from spatial dof
@@ -86,23 +110,16 @@ class PlaneSlabs:
         self.dt = dt
         A, self.rows = _held_rows(slab.sparse_slab_matrix(M, C, K, dt), held, first)
         self.A = petsc_matrix(A, comm)
-        self.M, self.K = petsc_matrix(M, comm), petsc_matrix(K, comm)
+        self.products = StateProducts(petsc_matrix(M, comm), petsc_matrix(K, comm))
         self.ksp = linear_solver(self.A, comm)
         self.x, self.b = self.A.createVecs()
-        self.mv, self.ku = self.M.createVecs()
-        self.v_vec, self.u_vec = self.M.createVecs()
 
     def step(self, u, v, forces=None):
         """(u^{n+1}, v^{(n+1)-}) from (u^n, v^{n-}), this rank's entries;
         ``forces`` the slab's nodal force integrals (2 per dof, interleaved)."""
-        self.v_vec.setArray(v)
-        self.u_vec.setArray(u)
-        self.M.mult(self.v_vec, self.mv)
-        self.K.mult(self.u_vec, self.ku)
-        ku = self.ku.getArray()
+        self.products.form(u, v)
         r = np.empty(2 * u.size)
-        r[0::2] = self.mv.getArray() - 0.5 * self.dt * ku
-        r[1::2] = -0.5 * self.dt * ku
+        self.products.rhs(r, self.dt)
         if forces is not None:
             r += forces
         r[self.rows] = 0.0

@@ -1,0 +1,119 @@
+"""What a plane-strain model writes into its result file, under the names
+of :mod:`vstpetsc.results.plane_layout`: the same functions as
+:mod:`vstpetsc.line.layout` for the recorder, the writer and the restart
+(``vstpetsc.geometry.layout``)."""
+
+import numpy as np
+
+from vstpetsc.plane.energy import centre_stress
+from vstpetsc.results.layout import ENERGY, SOLVER, TIME
+from vstpetsc.results.plane_layout import DIMENSION, MESH, PAIR_SERIES, field_path
+from vstpetsc.runner import energy as energy_mod
+
+
+def series(model):
+    nn, ne = model.nnodes, model.ncells
+    out = [(TIME, ()), (field_path("u"), (nn, 2)), (field_path("v"), (nn, 2)),
+           (field_path("stress"), (ne, 3))]
+    out += model.gauges.shapes()
+    for record in model.recorded:
+        m = record.info.pairs.stop - record.info.pairs.start
+        out += [(f"{record.group}/{key}", (m,)) for key in PAIR_SERIES]
+    return out + [(name, ()) for name in ENERGY + SOLVER]
+
+
+def statics(model):
+    mesh = model.mesh
+    out = {f"{MESH}/coordinates": mesh.coordinates, f"{MESH}/cells": mesh.cells,
+           f"{MESH}/region": mesh.region}
+    for record in model.recorded:
+        s, p = record.info.pairs, model.pairs
+        out.update({f"{record.group}/nodes": p.nodes[s], f"{record.group}/normal": p.normal[s],
+                    f"{record.group}/tangent": p.tangent[s],
+                    f"{record.group}/length": p.length[s]})
+    return out
+
+
+def group_attrs(model):
+    names = model.mesh.region_names if model.mesh is not None else ()
+    return {f"{MESH}/region": {"names": list(names)}, **model.gauges.attrs(),
+            **{record.group: record.attrs() for record in model.recorded}}
+
+
+def gauges(model):
+    return model.gauges
+
+
+def envelope_count(model):
+    return 0
+
+
+def event_sets(model):
+    return []
+
+
+def formulation(model):
+    return "none"
+
+
+def root_attrs():
+    """The root attributes that mark a 2-D file (a 1-D file has none)."""
+    return {DIMENSION: 2}
+
+
+def envelope_snapshots(model, lo, hi):
+    return {}
+
+
+def read_envelopes(f, model):
+    return None
+
+
+class RowFiller:
+    """Kept rows of a plane-strain run from the state (u, v) (nn, 2) on
+    rank 0: the fields, the cells' centre stresses, energies, solver."""
+
+    def __init__(self, model):
+        self.dt = model.case.dt
+        self.model = model
+        self.series = series(model)
+        self.energy = [(f"energy/{key}", key) for key in energy_mod.KEYS]
+
+    def offload(self, *args):
+        pass
+
+    def fill(self, buffers, i, k, u, v, its, wall, energy, d=None):
+        buffers[TIME][i], buffers["solver/slab"][i] = k * self.dt, k
+        buffers["solver/wall_time"][i] = wall
+        buffers["solver/newton_iterations"][i], buffers["solver/linear_iterations"][i] = its
+        for name, key in self.energy:
+            buffers[name][i] = energy[key]
+        buffers[field_path("u")][i] = u
+        buffers[field_path("v")][i] = v
+        for record in self.model.recorded:
+            for key, value in record.values().items():
+                buffers[f"{record.group}/{key}"][i] = value
+        mat = self.model.cell_materials
+        buffers[field_path("stress")][i] = centre_stress(self.model.mesh, np.ravel(u),
+                                                         mat["lam"], mat["mu"])
+
+    def row(self, k, u, v, its, wall, energy, d=None):
+        out = {name: np.zeros((1,) + tail) for name, tail in self.series}
+        self.fill(out, 0, k, u, v, its, wall, energy, d)
+        return {name: value[0] for name, value in out.items()}
+
+
+def last_state(f, model):
+    """(slab, u, v, {interface group: its pairs' state}, energies of the
+    first row, of the last row)."""
+    k = int(f["solver/slab"][-1])
+    u, v = f[field_path("u")][-1], f[field_path("v")][-1]
+    energies = [{key.split("/")[1]: f[key][i] for key in ENERGY} for i in (0, -1)]
+    pairs = {r.group: {key: f[f"{r.group}/{key}"][-1] for key in PAIR_SERIES}
+             for r in model.recorded}
+    return k, u, v, pairs, energies[0], energies[1]
+
+
+def compiled_gauges(gauges, solver, order):
+    """No compiled gauge row in 2-D: the Python path fills it."""
+    return None
