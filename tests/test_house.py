@@ -260,6 +260,30 @@ def test_every_room_is_where_the_architecture_says():
         assert os.path.isdir(os.path.join(folder, "solver"))
 
 
+def test_a_run_loads_only_its_own_room(tmp_path):
+    """A 1-D run loads no module of the 2-D room but its schema (which
+    tells a document's room), and a 2-D run none of the 1-D room: the
+    rooms' modules load through vstpetsc.geometry when asked for."""
+    import subprocess
+
+    script = """
+import sys, vstpetsc
+from vstpetsc import bundled
+name, other = sys.argv[1:3]
+before = set(sys.modules)
+case = vstpetsc.Case.from_toml(bundled.path(name))
+vstpetsc.run(case.with_value("time.end", 2 * case.dt), output=sys.argv[3], quiet=True)
+print(sorted(m for m in set(sys.modules) - before if m.startswith(other)))
+"""
+    for name, other, expected in (("bar-wall", "vstpetsc.plane", "['vstpetsc.plane', 'vstpetsc.plane.schema']"),
+                                  ("plane-column", "vstpetsc.line", "[]")):
+        p = subprocess.run([sys.executable, "-c", script, name, other,
+                            str(tmp_path / f"{name}.h5")], capture_output=True, text=True,
+                           cwd=ROOT)
+        assert p.returncode == 0, p.stderr
+        assert p.stdout.strip() == expected, name
+
+
 def test_no_long_function_or_class():
     long = long_definitions()
     assert set(long) <= LONG_AS_YET, {k: v for k, v in long.items() if k not in LONG_AS_YET}

@@ -252,13 +252,6 @@ def spring_energy(ops, u):
     return 0.5 * float(u @ band_mult(ops.s_diag, ops.s_off, u)) if ops.sprung else 0.0
 
 
-def element_stress(mesh, u):
-    """E du/dx per element, as (u_{i+1} - u_i) (E / h) (the envelopes
-    compute it the same way)."""
-    n = mesh.elem_node
-    return (u[n + 1] - u[n]) * (mesh.E / mesh.h)
-
-
 def initial_state(model):
     """Nodal u0 and v0 from the bodies' profiles."""
     mesh = model.mesh
