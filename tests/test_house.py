@@ -275,7 +275,8 @@ case = vstpetsc.Case.from_toml(bundled.path(name))
 vstpetsc.run(case.with_value("time.end", 2 * case.dt), output=sys.argv[3], quiet=True)
 print(sorted(m for m in set(sys.modules) - before if m.startswith(other)))
 """
-    for name, other, expected in (("bar-wall", "vstpetsc.plane", "['vstpetsc.plane', 'vstpetsc.plane.schema']"),
+    plane_schema = "['vstpetsc.plane', 'vstpetsc.plane.schema']"
+    for name, other, expected in (("bar-wall", "vstpetsc.plane", plane_schema),
                                   ("plane-column", "vstpetsc.line", "[]")):
         p = subprocess.run([sys.executable, "-c", script, name, other,
                             str(tmp_path / f"{name}.h5")], capture_output=True, text=True,
