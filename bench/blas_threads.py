@@ -1,6 +1,6 @@
 """BLAS threads under load (issue 29): the bundled pile example run as a
 process, (a) on a quiet machine, (b) with a busy second core, each with
-vstpetsc's one-thread limit (driver.one_blas_thread, the default) and
+vstpetsc's one-thread limit (vstpetsc.runner.driver.one_blas_thread, the default) and
 without it (numpy's BLAS with its own threads).  Wall and CPU seconds,
 min and median of several, interleaved.
 

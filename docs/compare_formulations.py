@@ -63,7 +63,7 @@ where it opens. Inside a slab the gap is the quadratic
 g(theta) = g^n - I_1(theta) d^1 - I_2(theta) d^2 of the converged closing
 rates d^a; the seed and power formulations act where g < 0, so their
 events are the real roots of g inside the slab, the same roots that split
-the slab for the exact penalty integrals (laws/gap.py). A cushion acts
+the slab for the exact penalty integrals (kernels/gap.py). A cushion acts
 where its force is positive: its events are where the compression rises
 above zero and where the unloading line reaches zero force. Each law
 records them at the end of the converged slab; the compiled slab

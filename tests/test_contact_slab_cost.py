@@ -1,4 +1,4 @@
-"""The compiled penalty slab on one rank (vstpetsc.penalty_native.PenaltySlab
+"""The compiled penalty slab on one rank (vstpetsc.line.native.penalty.PenaltySlab
 bound to the solver's arrays): it reads the pairs' unknowns, subtracts
 their influence, closes the slab (u += z_2, b += carry f) and finds each
 acting pair's pieces of the slab itself.  Runs equal the Python path

@@ -1,4 +1,4 @@
-"""Coulomb friction's slab kernel (laws/coulomb.py): against the same law
+"""Coulomb friction's slab kernel (kernels/coulomb.py): against the same law
 followed by an explicit return mapping on 20000 sub-steps, its tangent
 against finite differences, its exact limits, the work and kinematic
 identities."""

@@ -1,5 +1,5 @@
 """The compiled Coulomb slab kernel (vstpetsc/native/coulomb.h) is
-laws/coulomb.py friction_integrals bit for bit: the same floating-point
+kernels/coulomb.py friction_integrals bit for bit: the same floating-point
 operations in the same order, built without fused multiply-adds
 (tests/agreement.py), on many random slabs of every kind (stick, slip
 either way, reversals, a gap that opens or closes and opens inside the

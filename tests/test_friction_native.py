@@ -1,4 +1,4 @@
-"""Coulomb friction in the compiled Newton (vstpetsc.native: a pair's
+"""Coulomb friction in the compiled Newton (vstpetsc.line.native.penalty: a pair's
 friction runs beside its penalty pair in penalty_newton.c, its slab
 integrals coulomb.h's).
 

@@ -1,4 +1,4 @@
-"""The compiled Newton for penalty pairs (vstpetsc.native) repeats the
+"""The compiled Newton for penalty pairs (vstpetsc.line.native.penalty) repeats the
 Python Newton (vstpetsc.line.reduced_newton): bit for bit while at most one pair
 acts in a slab, to rounding when several do; whole runs are the same."""
 

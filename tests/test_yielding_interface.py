@@ -1,6 +1,6 @@
 """A yielding (MKZ) column with an interface that separates and slides
 (issue 36): the soil's Newton hosts the contact pair and its friction
-(vstpetsc/petsc/hosted_laws.py).
+(vstpetsc/line/solver/hosted_laws.py).
 
 1. Every path of the one Newton gives the same run: compiled and
    -vst_native 0, the SNES with a finite-difference tangent, modified

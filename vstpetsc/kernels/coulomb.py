@@ -1,7 +1,7 @@
 """Coulomb friction of a contact pair over one slab: the exact slab integrals
 of a tangential elastic-perfectly-plastic spring whose yield limit follows
-the normal contact force, in plain floats (the style of laws/gap.py and
-laws/smith.py).  Not yet wired into a law (issue 27).
+the normal contact force, in plain floats (the style of kernels/gap.py and
+kernels/smith.py).  Not yet wired into a law (issue 27).
 
 Inside a slab theta = (t - t^n)/dt in [0, 1], T_1 = 1 - theta, T_2 = theta,
 I_a(theta) = dt int_0^theta T_a.  The pair's relative shear velocity (the

@@ -1,5 +1,5 @@
 /* The Coulomb slab kernel (coulomb.h) called on its own, for tests that
- * hold it to vstpetsc.laws.coulomb.friction_integrals bit for bit
+ * hold it to vstpetsc.kernels.coulomb.friction_integrals bit for bit
  * (tests/test_coulomb_native.py). */
 #include "coulomb.h"
 

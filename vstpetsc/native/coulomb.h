@@ -1,5 +1,5 @@
 /* Coulomb friction of a contact pair over one slab: the exact slab
- * integrals of vstpetsc.laws.coulomb.friction_integrals (whose docstring
+ * integrals of vstpetsc.kernels.coulomb.friction_integrals (whose docstring
  * has the mathematics), with the same floating-point operations in the
  * same order, so that built with -ffp-contract=off (no fused
  * multiply-adds) its answer is the Python one bit for bit.
@@ -17,7 +17,7 @@
 
 #define COULOMB_MAX_SWITCHES 64     /* a piece has a handful; more would be a float loop */
 
-/* laws/coulomb.py FrictionSlab, field for field */
+/* kernels/coulomb.py FrictionSlab, field for field */
 typedef struct {
     double f1, f2;                  /* F_a = dt int T T_a */
     double d11, d12, d21, d22;      /* dF_a / ds_b */
@@ -27,14 +27,14 @@ typedef struct {
     double released;                /* k_t (e_n^2 - e^2) / 2 of the start's projection */
 } FrictionSlab;
 
-/* laws/coulomb.py _Slab: what the pieces of one slab share */
+/* kernels/coulomb.py _Slab: what the pieces of one slab share */
 typedef struct {
     double s1, s2, dt, k, mu, n0, n1, n2, tol;
     double out[6];
     double slip, dissipation;
 } CoulombRun;
 
-/* the 3-point Gauss rule of laws/gap.py GAUSS (sqrt(0.6) as Python's repr) */
+/* the 3-point Gauss rule of kernels/gap.py GAUSS (sqrt(0.6) as Python's repr) */
 static inline double coulomb_gauss_x(int i)
 {
     static const double SQ = 0.7745966692414834;

@@ -1,4 +1,4 @@
-/* vstpetsc.laws.gap's tests and roots of a quadratic on [0, 1], with the
+/* vstpetsc.kernels.gap's tests and roots of a quadratic on [0, 1], with the
  * same floating-point operations as the Python.  Shared by
  * penalty_newton.c and smith_slab.c. */
 #ifndef VST_GAP_H

@@ -1,5 +1,5 @@
-/* The gauges' row of a slab on one rank in one call (gauge_row.py): the
- * operations of vstpetsc.gauges.Gauges.fill on u and v^2 = z V1 read
+/* The gauges' row of a slab on one rank in one call (line/native/gauge_row.py): the
+ * operations of vstpetsc.line.gauges.Gauges.fill on u and v^2 = z V1 read
  * straight from the solver's arrays, then the writer's column order. */
 
 typedef struct {

@@ -1,14 +1,14 @@
 /* Contact pairs and Coulomb friction inside the hysteretic soil's compiled
  * Newton (soil_newton.c): the rows and tangent blocks of
- * vstpetsc/petsc/hosted_laws.py, the laws evaluated as
- * vstpetsc.laws.penalty.PenaltyContact.force and
- * vstpetsc.laws.friction.CoulombFriction.force do (pair.h, coulomb.h: the
+ * vstpetsc/line/solver/hosted_laws.py, the laws evaluated as
+ * vstpetsc.line.laws.penalty.PenaltyContact.force and
+ * vstpetsc.line.laws.friction.CoulombFriction.force do (pair.h, coulomb.h: the
  * same operations).  The laws' dofs E are nodes of the mesh; y = R0 z_E,
  * their rows on E are U f (U = WE P), their tangent U f'(y) R0, which the
  * 1-D mesh keeps in the block bands (a pair's nodes are neighbours).
  *
  * The laws' terms are law_forces()'s (law_forces.h), as in the laws' own
- * compiled Newton.  The caller (vstpetsc/native/hosted_laws.py) owns every
+ * compiled Newton.  The caller (vstpetsc/line/native/hosted_laws.py) owns every
  * array and sets the laws' slab state (gaps, stretches, the walls'
  * velocities) before each slab; after it, it reads the last evaluation's
  * outputs. */

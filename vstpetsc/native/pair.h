@@ -1,4 +1,4 @@
-/* One penalty contact pair over one slab (vstpetsc.laws.gap): its gap's
+/* One penalty contact pair over one slab (vstpetsc.kernels.gap): its gap's
  * coefficients, its exact penalty integrals and its active pieces, with
  * the same floating-point operations in the same order as the Python.
  * Pure functions on plain arrays, shared by penalty_newton.c (and the
@@ -8,7 +8,7 @@
 
 #include "gap.h"
 
-/* vstpetsc.laws.gap.closed_throughout: g < 0 on the whole slab */
+/* vstpetsc.kernels.gap.closed_throughout: g < 0 on the whole slab */
 static inline int closed_throughout(double a0, double a1, double a2)
 {
     if (a0 >= 0.0 || a0 + a1 + a2 >= 0.0)
@@ -20,7 +20,7 @@ static inline int closed_throughout(double a0, double a1, double a2)
     return 1;
 }
 
-/* vstpetsc.laws.gap.gap_coefficients: g(theta) = a[0] + a[1] theta + a[2] theta^2 */
+/* vstpetsc.kernels.gap.gap_coefficients: g(theta) = a[0] + a[1] theta + a[2] theta^2 */
 static inline void gap_coefficients(double gn, double d1, double d2, double dt, double *a)
 {
     a[0] = gn;
@@ -28,7 +28,7 @@ static inline void gap_coefficients(double gn, double d1, double d2, double dt, 
     a[2] = 0.5 * dt * (d1 - d2);
 }
 
-/* vstpetsc.laws.gap.pair_integrals: 1 and G[6] when the pair acts, else 0 */
+/* vstpetsc.kernels.gap.pair_integrals: 1 and G[6] when the pair acts, else 0 */
 static inline int pair_integrals(double gn, double d1, double d2, double dt, int power, double *G)
 {
     /* sqrt(0.6): Python's repr of math.sqrt(0.6), which parses to the same double */
@@ -91,7 +91,7 @@ static inline int pair_integrals(double gn, double d1, double d2, double dt, int
     return 1;
 }
 
-/* vstpetsc.laws.gap.active_intervals: the pieces (p, q) of [0, 1] where
+/* vstpetsc.kernels.gap.active_intervals: the pieces (p, q) of [0, 1] where
  * g < 0 into pq (at most three), touching ones joined; returns their count */
 static inline int active_intervals(const double *a, double *pq)
 {
@@ -122,7 +122,7 @@ static inline int active_intervals(const double *a, double *pq)
     return n;
 }
 
-/* vstpetsc.laws.coulomb.penalty_normal's coefficients: the power penalty's
+/* vstpetsc.kernels.coulomb.penalty_normal's coefficients: the power penalty's
  * normal force N = k max(0, -g) is -k g on the active pieces */
 static inline void penalty_normal(const double *a, double k, double *n)
 {

@@ -1,6 +1,6 @@
-/* The plain Newton of vstpetsc.reduced_newton for penalty contact pairs
- * (vstpetsc.laws.penalty, vstpetsc.laws.gap) and the Coulomb friction of
- * pairs (vstpetsc.laws.friction, coulomb.h), in C.
+/* The plain Newton of vstpetsc.line.reduced_newton for penalty contact pairs
+ * (vstpetsc.line.laws.penalty, vstpetsc.kernels.gap) and the Coulomb friction of
+ * pairs (vstpetsc.line.laws.friction, coulomb.h), in C.
  *
  * Same algorithm and the same floating-point operations in the same order
  * as the Python (built with -ffp-contract=off: no fused multiply-adds), so
@@ -9,7 +9,7 @@
  * Gaussian elimination here and LAPACK in numpy, equal to rounding
  * (tests/test_native.py checks both).
  *
- * The caller (vstpetsc/native/__init__.py) owns every array; nothing is
+ * The caller (vstpetsc/line/native/penalty.py) owns every array; nothing is
  * allocated here beyond the stack.
  */
 #include <math.h>

@@ -2,7 +2,7 @@
  * call: per pair the 1-D penalty pair's exact integrals along its normal
  * (pair.h) and, with friction, the exact Coulomb slab integrals along its
  * tangent (coulomb.h), whose limit follows that normal force.  The same
- * operations per pair as vstpetsc.plane.pair_kernels.evaluate_python (the
+ * operations per pair as vstpetsc.plane.pair_kernels.one_pair (the
  * 1-D laws' Python kernels), which the tests hold it to.
  *
  * Per pair p, y[4 p ..] = (d1, d2, q1, q2): the closing rates along the

@@ -1,6 +1,6 @@
 /* The end of a slab, on one rank or on one rank's part of the nodes, in
  * three vectorised loops instead of a dozen numpy calls and a PETSc
- * product (vstpetsc/native/closing.py): u += z_2, v = v1 z_1 + v2 z_2,
+ * product (vstpetsc/line/native/closing.py): u += z_2, v = v1 z_1 + v2 z_2,
  * the elongations d of the node pairs, their envelopes lo <= d <= hi, the
  * energies of the state (kinetic 1/2 v^T M v, strain 1/2 sum k d^2) and
  * the running sum b += G z, G's three bands (bands.increment_bands,
@@ -14,7 +14,7 @@
  * u, v, d, lo, hi and b are the Python path's bit for bit (elementwise
  * IEEE operations in the same order, no fused multiply-add:
  * -ffp-contract=off); the energies equal it to rounding (on several ranks
- * they are partial sums, which nobody reads: the EnergyBook sums the
+ * they are partial sums, which nobody reads: the LineEnergyBook sums the
  * gathered state). */
 
 #include <stddef.h>
@@ -39,7 +39,7 @@ typedef struct {
 /* b += G z on the dof rows r = lo .. hi - 1 in the difference form of
  * bands.increment_bands: L (x[r - 2] - x[r]) + D x[r] + R (x[r + 2] - x[r])
  * summed from 0, left to right, then added to b, as the Python path
- * (petsc/slab_end.py) does on any number of ranks.  Every row here has
+ * (line/solver/slab_end.py) does on any number of ranks.  Every row here has
  * both neighbours on this rank, so the loop has no branch. */
 static void band_rows(const Close *c, int lo, int hi)
 {

@@ -1,6 +1,6 @@
 /* A slab of laws with Smith soil nodes among them, on one rank, in one
- * call (vstpetsc/native/smith_slab.py): the steps of
- * vstpetsc.reduced_newton.ReducedNewton (the checked reference,
+ * call (vstpetsc/line/native/smith_slab.py): the steps of
+ * vstpetsc.line.reduced_newton.ReducedNewton (the checked reference,
  * -vst_native 0) on the laws' coordinates y,
  *
  *     r(y) = y - y0 + S f(y) = 0,    S = R A^{-1} C,
@@ -19,8 +19,8 @@
  * soil on a long mesh) take the dense S instead: O(laws^2) a residual,
  * O(laws^3) a step, nothing over the nodes.
  *
- * The Smith nodes' integrals are vstpetsc.laws.smith.smith_integrals and
- * the cushions' vstpetsc.laws.cushion.cushion_integrals, the same pieces
+ * The Smith nodes' integrals are vstpetsc.kernels.smith.smith_integrals and
+ * the cushions' vstpetsc.line.laws.cushion.cushion_integrals, the same pieces
  * and Gauss points; other laws (a penalty pair) are evaluated by a
  * callback into Python. */
 
@@ -96,7 +96,7 @@ typedef struct {
     double norm;
 } SmithSlab;
 
-/* ---- Smith's integrals (laws/smith.py, operation for operation) ---- */
+/* ---- Smith's integrals (kernels/smith.py, operation for operation) ---- */
 
 typedef struct {
     double y1, y2, dt, k, Ru, J;
@@ -248,7 +248,7 @@ static int smith_integrals(double wn, double p, const Node *n, double *out)
     return 0;
 }
 
-/* ---- a cushion's integrals (laws/cushion.py, operation for operation) ---- */
+/* ---- a cushion's integrals (line/laws/cushion.py, operation for operation) ---- */
 
 static const double GX[3] = {0.5 - 0.5 * 0.7745966692414834, 0.5, 0.5 + 0.5 * 0.7745966692414834};
 static const double GW[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};

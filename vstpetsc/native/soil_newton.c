@@ -1,5 +1,5 @@
 /* The hysteretic soil's Newton on the whole slab, on one rank, in one call:
- * the same steps as vstpetsc/petsc/material_newton.py PlainSoilNewton (the
+ * the same steps as vstpetsc/line/solver/material_newton.py PlainSoilNewton (the
  * checked reference, -vst_native 0), with the slab matrix as its 2 x 2
  * block tridiagonal bands and the LU of A + the tangent by the block
  * Thomas algorithm (natural order, as PETSc's LU of A: a block

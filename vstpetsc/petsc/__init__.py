@@ -1,6 +1,7 @@
-"""Everything of vstpetsc that imports petsc4py: the slab matrices, the
-factored linear solver, Newton on the laws' dofs, options, and the
-translation of PETSc's errors.
+"""What of petsc4py both geometries share: options, the collectives over
+ranks (:mod:`vstpetsc.petsc.ranks`) and the translation of PETSc's errors.
+The slab matrices, the factored linear solver and Newton on the laws' dofs
+are each room's (:mod:`vstpetsc.line.solver`, :mod:`vstpetsc.plane.solver`).
 
 ``initialize(args)`` starts PETSc with command-line options when it has not
 started yet (options such as -log_view act only at start-up).

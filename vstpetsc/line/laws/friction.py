@@ -5,7 +5,7 @@ mu N(theta) follows the pair's normal force inside the slab (docs/shear.md).
 The pair's relative shear velocity s = w(second) - w(first) (a wall moves
 with ``wall_shear_velocity``, sampled at the slab ends and linear in
 between, as a prescribed velocity) enters an elastic-perfectly-plastic
-tangential spring whose slab integrals laws/coulomb.py gives exactly, the
+tangential spring whose slab integrals kernels/coulomb.py gives exactly, the
 stick/slip switches inside the slab included.  The friction force T on the
 second side is the kernel's; the law's reduced coordinate is
 y = sum c_k w_k = -s - c_wall v_wall (c_k as the pair: +1 left, -1 right),
@@ -28,7 +28,8 @@ from vstpetsc.line.laws.base import Law
 from vstpetsc.kernels.coulomb import friction_integrals
 from vstpetsc.kernels.stiffness import STICK_BETA, default_penalty
 
-SERIES = ("shear_force", "slip", "shear_stretch")# slabs whose wall velocities one call of the wall's history gives (a call
+SERIES = ("shear_force", "slip", "shear_stretch")
+# slabs whose wall velocities one call of the wall's history gives (a call
 # per slab cost more than the compiled slab's friction)
 WALL_CHUNK = 512
 

@@ -62,7 +62,7 @@ class PenaltyContact(PairLaw):
         self.last = None
         self.rates = None           # the closing rates of the last force() that acted
         # its active pieces of the slab when the compiled slab found them
-        # (vstpetsc.penalty_native.PenaltySlab), else None: finish_slab finds them
+        # (vstpetsc.line.native.penalty.PenaltySlab), else None: finish_slab finds them
         self.pieces = None
 
     def add_operators(self, ops):

@@ -1,5 +1,6 @@
 """The gauges' row of a slab on one rank in one compiled call
-(gauge_row.c): numpy's dozen calls on a few numbers become one.  The Python path (:meth:`vstpetsc.line.gauges.Gauges.fill` on
+(gauge_row.c): numpy's dozen calls on a few numbers become one.  The
+Python path (:meth:`vstpetsc.line.gauges.Gauges.fill` on
 :class:`vstpetsc.line.solver.probe.NodeValues`) runs on several ranks, with
 ``-vst_native 0`` and for channels that read a hysteretic soil's stress."""
 

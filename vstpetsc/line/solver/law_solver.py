@@ -155,8 +155,8 @@ class LawSolver:
     def _solve_compiled(self, X, b, dt, slab_index):
         """solve() for penalty pairs and their friction: one call for the
         slab's start, test, guess, Newton and work
-        (:class:`vstpetsc.penalty_native.PenaltySlab`); on one rank it reads X and
-        subtracts the pairs' influence itself."""
+        (:class:`vstpetsc.line.native.penalty.PenaltySlab`); on one rank it
+        reads X and subtracts the pairs' influence itself."""
         step = self.newton
         if not step.bound:
             step.bind(self.coupling, self.influence, b.getArray())

@@ -1,4 +1,4 @@
-"""PETSc matrices from the numpy block bands of :mod:`vstpetsc.spacetime.slab`, each
+"""PETSc matrices from the numpy block bands of :mod:`vstpetsc.line.bands`, each
 rank holding the rows of its nodes n0..n1-1."""
 
 import numpy as np

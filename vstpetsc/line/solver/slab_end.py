@@ -48,7 +48,7 @@ class SlabEnd:
         np.add(v, self._v2, out=v)
 
     def energies(self):
-        """None: the EnergyBook sums the state's energies."""
+        """None: the LineEnergyBook sums the state's energies."""
         return None
 
 

@@ -214,7 +214,7 @@ class SlabSolver:
 
     def state_energies(self):
         """(kinetic, strain) energy after the last slab when the compiled
-        close summed them (None: the EnergyBook sums them)."""
+        close summed them (None: the LineEnergyBook sums them)."""
         return self.end.energies()
 
     def elongation(self):

@@ -6,7 +6,8 @@ SlabSolver that the shared time loop and recorder use (``rhs``,
 Each slab in the plain algebra of formulation.md: r from (u^n, v^{n-})
 by two parallel products (M v, K u), A x = r + int T_a f dt solved with A
 factored once (with interfaces: A_c, the interfaces closed and sticking,
-and Newton, vstpetsc.plane.solver.contact_newton) (vstpetsc.plane.solver.stepper's linear solver, options prefix
+and Newton, vstpetsc.plane.solver.contact_newton)
+(vstpetsc.plane.solver.stepper's linear solver, options prefix
 ``vst_plane_``), u^{n+1} = u^n + dt/2 (v^1 + v^2).  Held dofs have
 identity rows carrying their prescribed (v^1, v^2).  The energy terms of
 each slab are summed per rank (docs/loads.md section 4): the dashpots'
