@@ -15,7 +15,8 @@ import time
 
 RUN = """
 import contextlib, sys, vstpetsc
-from vstpetsc import bundled, driver
+from vstpetsc import bundled
+from vstpetsc.runner import driver
 if sys.argv[1] == "free":
     driver.one_blas_thread = contextlib.nullcontext
 vstpetsc.run(vstpetsc.Case.from_toml(bundled.path("pile")), sys.argv[2], quiet=True)

@@ -27,7 +27,8 @@ from vstpetsc.version import __version__
 # every module of the package, h5py and scipy included, which `vstpetsc
 # --help` and every tool that only imports the package paid); the first
 # ``vstpetsc.run`` loads what a run needs, once per process.
-_PUBLIC = {"Case": "vstpetsc.input.case", "RunInfo": "vstpetsc.runner.driver", "run": "vstpetsc.runner.driver",
+_PUBLIC = {"Case": "vstpetsc.input.case", "RunInfo": "vstpetsc.runner.driver",
+           "run": "vstpetsc.runner.driver",
            "Result": "vstpetsc.results.reader", "response_spectrum": "vstpetsc.results.spectrum",
            "transfer_function": "vstpetsc.results.spectrum"}
 

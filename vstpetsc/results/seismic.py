@@ -6,7 +6,8 @@ tables and their one-screen summaries, and the peak profiles over x that
 import numpy as np
 
 from vstpetsc.results import layout
-from vstpetsc.results.plane_layout import COMPONENTS as PLANE_COMPONENTS  # a 2-D gauge's columns of v
+# a plane-strain gauge's columns of v
+from vstpetsc.results.plane_layout import COMPONENTS as PLANE_COMPONENTS
 
 COMPONENTS = ("shear", "axial")
 BAND = 0.01                          # the summary's band: input amplitude >= 1 % of its peak
