@@ -285,6 +285,21 @@ print(sorted(m for m in set(sys.modules) - before if m.startswith(other)))
         assert p.stdout.strip() == expected, name
 
 
+def test_the_package_installs_every_room():
+    """pyproject.toml installs every package of the house: found by
+    setuptools, or each listed (a list went stale once, and a clean
+    install failed on a folder that had moved)."""
+    import tomllib
+
+    with open(os.path.join(ROOT, "pyproject.toml"), "rb") as f:
+        tool = tomllib.load(f)["tool"]["setuptools"]
+    packages = {m for m, path in modules().items() if path.endswith("__init__.py")}
+    if "packages" in tool and isinstance(tool["packages"], list):
+        assert set(tool["packages"]) == packages
+    else:
+        assert tool["packages"]["find"]["include"] == [f"{PACKAGE}*"]
+
+
 def test_no_long_function_or_class():
     long = long_definitions()
     assert set(long) <= LONG_AS_YET, {k: v for k, v in long.items() if k not in LONG_AS_YET}
