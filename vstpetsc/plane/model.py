@@ -150,6 +150,7 @@ class PlaneModel:
     def __init__(self, case, comm):
         self.case, self.comm = case, comm
         self.laws, self.recorded, self.bodies, self.soil = [], [], [], None
+        self.zone = None
         rank0 = comm.getRank() == 0
         error, mesh, split = None, None, None
         if rank0:
@@ -175,6 +176,7 @@ class PlaneModel:
             self.cell_materials = cell_materials(self._regions(mesh.region_names), mesh.region)
         self.boundaries = curves.Boundaries(self, case.plane.boundaries)
         self.pairs = self._pairs(arrays)
+        self.zone = self._zone()
         if self.pairs is not None:
             from vstpetsc.plane.pairs import InterfaceRecord
             self.recorded = [InterfaceRecord(self.pairs, i) for i in self.infos]
@@ -204,15 +206,40 @@ class PlaneModel:
         from vstpetsc.plane.pairs import PairSet
 
         pairs = PairSet(self.infos, *arrays, self.case.dt)
+        global_of = self._global_of()
+        numbering = None if global_of is None else global_of[pairs.nodes]
+        pairs.global_nodes = self.comm.tompi4py().bcast(numbering, root=0)
+        return pairs
+
+    def _global_of(self):
+        """Rank 0: each node's global number (the slab vector's order) by
+        its number in the mesh as read; None elsewhere (collective)."""
         comm = self.comm.tompi4py()
         numbering = comm.gather((self.owned_original, self.first), root=0)
-        if comm.Get_rank() == 0:
-            global_of = np.empty(self.nnodes, dtype=np.int64)
-            for original, first in numbering:
-                global_of[original] = first + np.arange(original.size)
-            numbering = global_of[pairs.nodes]
-        pairs.global_nodes = comm.bcast(numbering, root=0)
-        return pairs
+        if comm.Get_rank() != 0:
+            return None
+        global_of = np.empty(self.nnodes, dtype=np.int64)
+        for original, first in numbering:
+            global_of[original] = first + np.arange(original.size)
+        return global_of
+
+    def _zone(self):
+        """The yielding zone of the regions with a shear_law (None without):
+        its kernels on rank 0, its unknowns' global slab indices on every
+        rank (collective)."""
+        if all(r.shear_law is None for r in self.case.plane.regions):
+            return None
+        from vstpetsc.plane.yielding import YieldingZone, ZoneUnknowns, zone_cells
+
+        global_of = self._global_of()
+        zone = None
+        if self.comm.getRank() == 0:
+            cells, params = zone_cells(self._regions(self.mesh.region_names), self.mesh.region)
+            mat = self.cell_materials
+            zone = YieldingZone(self.mesh, cells, mat["lam"], mat["mu"], params, self.case.dt,
+                                global_of)
+        index = self.comm.tompi4py().bcast(None if zone is None else zone.slab_index, root=0)
+        return zone if zone is not None else ZoneUnknowns(index)
 
     def matrices(self):
         """(M, C or None, K): this rank's rows (CSR, global columns),

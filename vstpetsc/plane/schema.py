@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from vstpetsc.results.plane_layout import COMPONENTS
 from vstpetsc.input.checker import is_number, name_problem, show
 from vstpetsc.input.tables import read_gravity
+from vstpetsc.materials import mkz
 from vstpetsc.spacetime.history import History
 
 ONE_D = ("body", "contact", "bc", "soil")
@@ -19,7 +20,7 @@ TOP = ("time", "output", "units", "gravity", "gauge", "mesh", "region", "boundar
 GENERATED = {"rectangle": ("x", "y", "nx", "ny", "triangles", "joints"),
              "dam": ("height", "crest", "upstream", "downstream", "foundation_depth",
                      "foundation_width", "h")}
-REGION_KEYS = ("name", "E", "nu", "Vs", "Vp", "rho", "damping", "mass", "v0", "u0")
+REGION_KEYS = ("name", "E", "nu", "Vs", "Vp", "rho", "damping", "mass", "v0", "u0", "shear_law")
 BOUNDARY_KEYS = ("name", "type", "value", "rock", "incident", "motion")
 TYPES = ("fixed", "velocity", "traction", "absorbing")
 MASSES = ("averaged", "consistent", "lumped")
@@ -51,6 +52,7 @@ class RegionSpec:
     mass: str = "averaged"
     v0: tuple = (0.0, 0.0)
     u0: tuple = (0.0, 0.0)
+    shear_law: dict = None      # {"gamma_ref", "beta", "s"} of MKZ (issue 46), None: linear
 
     @property
     def vp(self):
@@ -265,10 +267,39 @@ def read_regions(chk, tables):
         mass = chk.string(tbl, "mass", where, required=False, default="averaged",
                           choices=MASSES)
         v0, u0 = (_vector(chk, tbl, key, where) for key in ("v0", "u0"))
+        law = _shear_law(chk, tbl, where)
         parts = (name, rho, lame, damping, mass, v0, u0)
-        if None not in parts:
-            out.append(RegionSpec(name, *lame, rho, damping, mass, v0, u0))
+        if None not in parts and law is not False:
+            out.append(RegionSpec(name, *lame, rho, damping, mass, v0, u0, law))
     return out
+
+
+def _shear_law(chk, tbl, where):
+    """A region's ``shear_law`` (docs/nonlinear-soil.md section 7): None
+    when absent, {gamma_ref, beta, s} of the MKZ backbone, or False after
+    reporting."""
+    if "shear_law" not in tbl:
+        return None
+    name, value = f"{where}.shear_law", tbl["shear_law"]
+    if not isinstance(value, dict):
+        chk.add(name, f"must be a table {{ model = \"{mkz.NAME}\", gamma_ref = ... }}, "
+                f"got {show(value)}")
+        return False
+    model = value.get("model")
+    if model != mkz.NAME:
+        chk.add(f"{name}.model", f"must be {mkz.NAME!r}, got "
+                f"{show(model) if model is not None else 'nothing'}")
+        return False
+    chk.unknown(value, ("model",) + mkz.PARAMETERS, name)
+    law = {key: chk.number(value, key, name, positive=True, required=key not in mkz.DEFAULTS,
+                           default=mkz.DEFAULTS.get(key)) for key in mkz.PARAMETERS}
+    if None in law.values():
+        return False
+    if law["s"] > 1.0:
+        chk.add(f"{name}.s", f"must be <= 1 (the backbone would soften beyond its peak), "
+                f"got {law['s']:g}")
+        return False
+    return law
 
 
 def _lame(chk, tbl, where, rho):

@@ -3,7 +3,8 @@ steps by GMRES (``-vst_contact_steps krylov``; the default, Newton on the
 pairs' coordinates, is vstpetsc.plane.solver.pair_newton).
 
 The slab's equations with the pairs' terms, R(X) = A X - r + E f(E^T X)
-= 0, are solved on the full slab unknowns: with A_c = A + E W_c E^T (every
+= 0 (and a yielding zone's, vstpetsc.plane.yielding, in the same Newton),
+are solved on the full slab unknowns: with A_c = A + E W_c E^T (every
 pair closed and sticking: springs, vstpetsc.plane.pairs) factored once in
 place of A, R(X) = A_c X - r + E (f - W_c y) and the Newton matrix is
 J = A_c + E (f'(y) - W_c) E^T.  Each step solves J dX = -R by GMRES
@@ -37,22 +38,23 @@ HALVINGS = 20
 
 
 class PairDofs:
-    """The pairs' slab unknowns z (m, 8) of the global slab vector: the
-    first node's (x: T1, T2; y: T1, T2), then the second node's."""
+    """A nonlinear term's slab unknowns z (m, w) of the global slab vector,
+    on rank 0: a pair's 8 (the first node's (x: T1, T2; y: T1, T2), then
+    the second node's), a yielding zone's 2 a spatial dof (T1, T2)."""
 
     def __init__(self, comm, global_dofs, held):
-        """``global_dofs`` (m, 8) global slab indices (every rank: rank 0's
-        matter); ``held`` the held ones (m, 8), whose identity rows take
-        no pair term (the pair's force there is a reaction)."""
+        """``global_dofs`` (m, w) global slab indices (every rank: rank 0's
+        matter); ``held`` the held ones (m, w), whose identity rows take
+        no term (the term's force there is a reaction)."""
         self.comm, self.rank0 = comm, comm.getRank() == 0
         self.index, self.held = global_dofs, held
         self.free = ~held
-        self.m = global_dofs.shape[0]
+        self.m, self.width = global_dofs.shape
         if comm.getSize() == 1:
             self.scatter = None
             return
-        n = 8 * self.m if self.rank0 else 0
-        self.pairs_vec = PETSc.Vec().createMPI((n, 8 * self.m), comm=comm)
+        n = self.width * self.m if self.rank0 else 0
+        self.pairs_vec = PETSc.Vec().createMPI((n, self.width * self.m), comm=comm)
         self.source = None
         idx = global_dofs.ravel() if self.rank0 else np.zeros(0, dtype=int)
         self._is = PETSc.IS().createGeneral(idx.astype(PETSc.IntType), comm=comm)
@@ -70,7 +72,7 @@ class PairDofs:
             return vec.getArray(readonly=True)[self.index]
         self.scatter.scatter(vec, self.pairs_vec, addv=PETSc.InsertMode.INSERT,
                              mode=PETSc.ScatterMode.FORWARD)
-        return self.pairs_vec.getArray(readonly=True).reshape(-1, 8).copy() \
+        return self.pairs_vec.getArray(readonly=True).reshape(-1, self.width).copy() \
             if self.rank0 else None
 
     def add(self, values, vec):
@@ -89,50 +91,48 @@ class PairDofs:
 
 
 class HeldWork:
-    """The work at held dofs of a Newton's last pairs' terms (``values``,
-    E's entries of f - W_c y, at the pairs' unknowns ``z``)."""
+    """The work at held dofs of a Newton's last terms (each term's
+    ``values``, its entries of the residual beyond A_c, at its unknowns
+    ``z``)."""
 
     def held_work(self):
-        """Rank 0: the slab's work of the pairs' terms beyond A_c's springs
-        at held dofs (a part of their reactions' work)."""
-        if self.values is None or not self.dofs.held.any():
-            return 0.0
-        return float((self.values * self.dofs.held * self.z).sum())
+        """Rank 0: the slab's work of the nonlinear terms beyond A_c at held
+        dofs (a part of their reactions' work)."""
+        return sum(float((t.values * t.dofs.held * t.z).sum()) for t in self.terms
+                   if t.values is not None and t.dofs.held.any())
 
 
 class ContactNewton(HeldWork):
     """Newton for the slabs of ``A_c`` (its solver ``inner``, set up) with
-    ``pairs`` (a PairSet: kernels and state on rank 0) at ``dofs``."""
+    nonlinear ``terms`` (vstpetsc.plane.solver.newton_terms: interface
+    pairs, yielding zones; kernels and state on rank 0), in one Newton."""
 
-    def __init__(self, A_c, inner, pairs, dofs, comm):
-        self.A_c, self.inner, self.pairs, self.dofs, self.comm = A_c, inner, pairs, dofs, comm
+    def __init__(self, A_c, inner, terms, comm):
+        self.A_c, self.inner, self.terms, self.comm = A_c, inner, terms, comm
         self.rank0 = comm.getRank() == 0
         self.R, self.dx = A_c.createVecLeft(), A_c.createVecLeft()
         self.trial = A_c.createVecLeft()
-        dofs.bind(self.R)
+        for term in terms:
+            term.dofs.bind(self.R)
         from vstpetsc.plane.solver.newton_steps import KrylovSteps
         self.steps = KrylovSteps(self)
-        self.blocks = self.values = self.z = None
         self.linear = True
         self.krylov = 0
 
     def _residual(self, b, x, R):
-        """R = A_c x - b + E (f - W_c y) at x (the kernels evaluated
-        there); returns |R|."""
+        """R = A_c x - b + the terms' residuals at x (their kernels
+        evaluated there); returns |R|."""
         self.A_c.mult(x, R)
         self.ax_norm = R.norm()
         R.axpy(-1.0, b)
-        z = self.dofs.gather(x)
-        values = None
         linear = True
-        if z is not None:
-            self.pairs.evaluate(z)
-            values, *blocks = self.pairs.difference()
-            linear = max(float(np.abs(b).max(initial=0.0)) for b in blocks) <= \
-                self.pairs.rounding
-            self.blocks = blocks
-        self.dofs.add(values, R)
-        self.values, self.z = values, z
+        for term in self.terms:
+            z = term.dofs.gather(x)
+            values = None
+            if z is not None:
+                values, straight = term.evaluate(z)
+                linear = linear and straight
+            term.dofs.add(values, R)
         self.linear = self.comm.tompi4py().bcast(linear, root=0)
         return R.norm()
 

@@ -87,7 +87,7 @@ class Coupling:
 
 
 class _Jacobian:
-    """J = A_c + E D E^T, matrix-free (petsc4py's python Mat)."""
+    """J = A_c + each term's E D E^T, matrix-free (petsc4py's python Mat)."""
 
     def __init__(self, newton):
         self.newton = newton
@@ -95,9 +95,9 @@ class _Jacobian:
     def mult(self, mat, x, y):
         nw = self.newton
         nw.A_c.mult(x, y)
-        z = nw.dofs.gather(x)
-        values = nw.pairs.apply_difference(z, *nw.blocks) if z is not None else None
-        nw.dofs.add(values, y)
+        for term in nw.terms:
+            z = term.dofs.gather(x)
+            term.dofs.add(term.apply(z) if z is not None else None, y)
 
 
 class _Preconditioner:

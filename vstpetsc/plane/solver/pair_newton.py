@@ -58,6 +58,7 @@ class PairNewton(HeldWork):
         own = np.repeat(np.column_stack([pairs.spring_n, pairs.kt]), 2, axis=1)
         self.own = own * pairs.hk[0, 0]
         self.values = self.z = None
+        self.terms = (self,)            # its own values and z: HeldWork's one term
         self.bcast = comm.tompi4py().bcast
 
     def solve(self, b, x, k):

@@ -74,26 +74,41 @@ class PlaneSolver:
         self._products_fresh = False
         self.restart = PlaneRestart(self)
         self.to_rank0 = gather_to_rank0(model, comm)
-        self.pairs = model.pairs
-        self.newton = None if self.pairs is None else self._newton(comm)
+        self.pairs, self.zone = model.pairs, model.zone
+        self.newton = None if self.pairs is None and self.zone is None else self._newton(comm)
 
     def _newton(self, comm):
-        """The interfaces' Newton on A_c: on the pairs' coordinates
-        (vstpetsc.plane.solver.pair_newton), or on the slab's unknowns with GMRES
-        steps (contact_newton), newton_steps.kind."""
-        from vstpetsc.plane.solver.contact_newton import ContactNewton, PairDofs
+        """The nonlinear terms' Newton on A_c: interface pairs alone on the
+        pairs' coordinates (vstpetsc.plane.solver.pair_newton) when
+        newton_steps.kind says so, else every term (pairs, a yielding
+        zone) on the slab's unknowns with GMRES steps (contact_newton)."""
+        from vstpetsc.plane.solver.contact_newton import ContactNewton
         from vstpetsc.plane.solver.newton_steps import kind
+        from vstpetsc.plane.solver.newton_terms import PairTerm, ZoneTerm
         from vstpetsc.plane.solver.pair_newton import PairNewton
 
-        nodes = self.pairs.global_nodes
-        index = (2 * (2 * nodes[:, :, None, None] + np.arange(2)[:, None])
-                 + np.arange(2)).reshape(-1, 8)
+        terms = []
+        if self.pairs is not None:
+            nodes = self.pairs.global_nodes
+            index = (2 * (2 * nodes[:, :, None, None] + np.arange(2)[:, None])
+                     + np.arange(2)).reshape(-1, 8)
+            dofs = self._dofs(comm, index)
+            if self.zone is None and kind(self.pairs) == "dense":
+                return PairNewton(self.A, self.ksp, self.pairs, dofs, comm)
+            terms.append(PairTerm(self.pairs, dofs))
+        if self.zone is not None:
+            terms.append(ZoneTerm(self.zone, self._dofs(comm, self.zone.slab_index)))
+        return ContactNewton(self.A, self.ksp, terms, comm)
+
+    def _dofs(self, comm, index):
+        """The PairDofs of the global slab indices ``index`` (m, w) (rank
+        0's), with their held ones."""
+        from vstpetsc.plane.solver.contact_newton import PairDofs
+
         held = comm.tompi4py().gather(4 * self.model.first + self.rows, root=0)
         held = np.isin(index, np.concatenate(held)) if comm.getRank() == 0 \
             else np.zeros(index.shape, dtype=bool)
-        dofs = PairDofs(comm, index, held)
-        newton = PairNewton if kind(self.pairs) == "dense" else ContactNewton
-        return newton(self.A, self.ksp, self.pairs, dofs, comm)
+        return PairDofs(comm, index, held)
 
     def describe(self):
         pc = self.ksp.getPC()
@@ -157,8 +172,11 @@ class PlaneSolver:
             self.sums[1] += float(self.forces[:, 0] @ v1 + self.forces[:, 1] @ v2)
         if self.A_free is not None:
             self.sums[1] += self._reaction_work(x)
-        if self.pairs is not None and self.comm.getRank() == 0:
-            self.sums[2:4] += self.pairs.finish_slab()
+        if self.newton is not None and self.comm.getRank() == 0:
+            if self.pairs is not None:
+                self.sums[2:4] += self.pairs.finish_slab()
+            if self.zone is not None:
+                self.zone.finish_slab()
             self.sums[1] += self.newton.held_work()
         self.u += 0.5 * self.dt * (v1 + v2)
         self.v[:] = v2
@@ -187,6 +205,10 @@ class PlaneSolver:
         kinetic, strain = 0.5 * self.mv.dot(self.v_vec), 0.5 * self.ku.dot(self.u_vec)
         out = dict(zip(SUMS, map(float, self.space.sum_over_ranks(self.sums))))
         out.update(kinetic=float(kinetic), strain=float(strain))
+        if self.zone is not None:       # rank 0's, on every rank
+            beyond = self.zone.energies() if self.comm.getRank() == 0 else None
+            beyond = self.comm.tompi4py().bcast(beyond, root=0)
+            out.update(strain_beyond_linear=beyond[0], hysteretic=beyond[1])
         return out
 
     def held_energies(self, u, v):

@@ -1,0 +1,144 @@
+"""A plane-strain model's yielding zone (issue 46; docs/nonlinear-soil.md
+section 7): the cells of the regions with a ``shear_law``, their strain
+points (vstpetsc.plane.material_points), the MKZ law with extended Masing
+rules on the points' deviators (vstpetsc.materials.deviatoric) and its
+slab integrals (vstpetsc.materials.deviatoric_slab).
+
+The zone is a nonlinear term of the slab's Newton beside the interface
+pairs (vstpetsc.plane.solver.newton_terms.ZoneTerm): at its unknowns z
+(the slab's (T1, T2) values of every spatial dof its cells touch) it
+gives the forces of the points' stress beyond the linear one already in
+the slab matrix,
+
+    F_a = S^T (w Q_a),  Q_a = dt int T_a (sigma - C_el eps) dtheta,
+
+and their Jacobian S^T (w dQ_ab) S dt (D_b = dt S v^b).  Like the pairs'
+kernels it runs on rank 0 on the whole mesh.  The work of F over a slab,
+sum_a v^a . F_a, is the work of the stress beyond the linear one: its
+part that the points store (sigma's recoverable energy s:s / 4G + p^2 / 2K
+beyond the linear 1/2 eps C_el eps) is strain energy, the rest the loops'
+dissipation, /energy/hysteretic.
+
+The points' strains are measured from the run's initial state (at rest, a
+region's u0, or a static start's equilibrium, which carries its stress
+linearly): the zone starts on the backbone at zero strain, so a static
+start stays at rest."""
+
+import numpy as np
+import scipy.sparse as sp
+
+from vstpetsc.materials.deviatoric import PlaneMasing, equivalent_strain
+from vstpetsc.materials.deviatoric_slab import slab_integrals
+from vstpetsc.plane.material_points import material_points
+
+
+def zone_cells(regions, region):
+    """(cells, {gamma_ref, beta, s} per cell) of the regions with a
+    shear_law (``regions`` per region index, ``region`` per cell)."""
+    laws = [r.shear_law for r in regions]
+    yielding = np.array([law is not None for law in laws], dtype=bool)
+    cells = np.flatnonzero(yielding[region]) if len(region) else np.zeros(0, dtype=int)
+    params = {key: np.array([(law or {}).get(key, 1.0) for law in laws])[region[cells]]
+              for key in ("gamma_ref", "beta", "s")}
+    return cells, params
+
+
+class ZoneUnknowns:
+    """What a rank other than 0 knows of the zone: its unknowns' global
+    slab indices (the Newton's scatter needs their number everywhere)."""
+
+    def __init__(self, slab_index):
+        self.slab_index = slab_index
+
+
+
+class YieldingZone:
+    """The zone of ``cells`` of ``mesh`` (the whole mesh, rank 0) with
+    Lame's ``lam``, ``mu`` per cell and the MKZ ``params`` per cell;
+    ``global_of`` each node's global number (the slab vector's order)."""
+
+    def __init__(self, mesh, cells, lam, mu, params, dt, global_of):
+        self.dt, self.ncells, self.cells = dt, mesh.ncells, cells
+        points = material_points(mesh, cells)
+        used = np.unique(points.strain.indices)           # spatial dofs (mesh's numbering)
+        self.S = sp.csr_matrix(points.strain[:, used])
+        self.St = sp.csr_matrix(self.S.T)
+        self.weight, self.cell = points.weight, points.cell
+        node, comp = used // 2, used % 2
+        self.spatial = used
+        self.slab_index = 2 * (2 * global_of[node] + comp)[:, None] + np.arange(2)
+        where = np.searchsorted(cells, self.cell)
+        G, K = mu[self.cell], lam[self.cell] + 2.0 * mu[self.cell] / 3.0
+        self.law = PlaneMasing(G, params["gamma_ref"][where], params["beta"][where],
+                               params["s"][where], K)
+        self.G, self.K = G, K
+        self.motion = None
+        self.work = self.stored0 = 0.0           # the slab sums of v . F so far
+        self.strain_max = np.zeros(self.ncells)
+        self._last = None
+
+    def evaluate(self, z):
+        """The forces F (m, 2) at the zone's unknowns z (m, 2)."""
+        D1 = self.dt * (self.S @ z[:, 0]).reshape(-1, 3)
+        D2 = self.dt * (self.S @ z[:, 1]).reshape(-1, 3)
+        Q, dQ, path = slab_integrals(self.law, D1, D2, self.dt, self.motion)
+        w = self.weight[:, None]
+        F = np.column_stack([self.St @ (w * Q[:, a]).ravel() for a in range(2)])
+        self._last = (path, F, z, dQ)
+        return F
+
+    def apply(self, dz):
+        """The Jacobian's product with dz (m, 2): sum_b S^T (w dQ_ab) S dt dz_b."""
+        path, F, z, dQ = self._last
+        strains = [self.dt * (self.S @ dz[:, b]).reshape(-1, 3) for b in range(2)]
+        w = self.weight[:, None]
+        out = []
+        for a in range(2):
+            stress = sum(np.einsum("nij,nj->ni", dQ[:, a, :, b, :], strains[b])
+                         for b in range(2))
+            out.append(self.St @ (w * stress).ravel())
+        return np.column_stack(out)
+
+    def finish_slab(self):
+        """Take the last evaluated slab as converged: the law's state moves
+        to its end, the work of F is summed."""
+        path, F, z, _ = self._last
+        self.work += float((F * z).sum())
+        self.motion = path.commit()
+        self._envelope(self.law.eps)
+
+    def _envelope(self, eps):
+        np.maximum.at(self.strain_max, self.cell, equivalent_strain(eps))
+
+    def stored_beyond_linear(self):
+        """sum w (s:s / 4G + p^2 / 2K - 1/2 eps C_el eps): the energy the
+        points would give back unloading elastically beyond what the linear
+        strain energy 1/2 u^T K u counts for them."""
+        law, w = self.law, self.weight
+        s = law.dev
+        e = law.eps
+        tr = e[:, 0] + e[:, 1]
+        p = law.sigma[:, 0] + law.sigma[:, 1] + law.sigma[:, 3]
+        p = p / 3.0
+        lam = self.K - 2.0 * self.G / 3.0
+        linear = 0.5 * (lam * tr * tr + 2.0 * self.G * (e[:, 0] ** 2 + e[:, 1] ** 2)
+                        + self.G * e[:, 2] ** 2)
+        return float(w @ ((s * s).sum(axis=1) / (4.0 * self.G) + p * p / (2.0 * self.K)
+                          - linear))
+
+    def energies(self):
+        """(strain energy beyond the linear expression, hysteretic
+        dissipation) since t = 0."""
+        stored = self.stored_beyond_linear()
+        return stored, self.work - (stored - self.stored0)
+
+    def cell_stress(self):
+        """(ne, 3) each cell's mean in-plane stress over its points (cells
+        outside the zone: NaN, the caller's linear stress stands)."""
+        out = np.zeros((self.ncells, 3))
+        count = np.bincount(self.cell, weights=self.weight, minlength=self.ncells)
+        for i in range(3):
+            out[:, i] = np.bincount(self.cell, weights=self.weight * self.law.sigma[:, i],
+                                    minlength=self.ncells)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return out / count[:, None]
