@@ -94,8 +94,12 @@ def two_region_column(folder):
     return {"file": "column.msh"}
 
 
-def friction_cases(folder, friction):
-    bodies = [bar(n, x, CELLS // 2, E=E, rho=RHO, area=WIDTH, G=G)
+def friction_cases(folder, friction, law=None):
+    """(the 2-D case of a gap, the 1-D case); ``law`` a shear_law table
+    for the lower side (issue 46: yielding under the joint, one Newton)."""
+    yielding = {} if law is None else {"shear_law": law}
+    bodies = [bar(n, x, CELLS // 2, E=E, rho=RHO, area=WIDTH, G=G,
+                  **(yielding if n == "lower" else {}))
               for n, x in (("lower", (0.0, HEIGHT / 2)), ("upper", (HEIGHT / 2, HEIGHT)))]
     drive = [[0.0, 0.0], [0.01, 0.3], [END, 0.3]]
     one = make_case(DT, END, bodies, [{"pair": ["lower", "upper"], "friction": friction}],
@@ -110,7 +114,7 @@ def friction_cases(folder, friction):
     def two(gap0):
         return vstpetsc.Case.from_dict({
             "time": {"dt": DT, "end": END}, "mesh": two_region_column(folder),
-            "region": [{"name": "lower", **region},
+            "region": [{"name": "lower", **region, **yielding},
                        {"name": "upper", **region, "u0": [0.0, gap0]}],
             "boundary": [{"name": "bottom", "type": "fixed"},
                          {"name": "top", "type": "velocity", "value": {"x": drive, "y": 0.0}},
@@ -119,9 +123,15 @@ def friction_cases(folder, friction):
     return two, one
 
 
-@pytest.mark.parametrize("friction", [0.2, 0.4])
-def test_split_column_is_the_1d_frictional_pair(tmp_path, friction):
-    two_case, one_case = friction_cases(tmp_path, friction)
+# yielding under the joint (issue 46): the lower half carries mu N = 0.2 x
+# the upper half's weight at about 3 gamma_ref, and the joint slides
+MKZ = {"model": "mkz", "gamma_ref": 1.0e-3, "beta": 1.0, "s": 0.919}
+
+
+@pytest.mark.parametrize("friction, law", [(0.2, None), (0.4, None), (0.2, MKZ)],
+                         ids=["0.2", "0.4", "0.2-mkz"])
+def test_split_column_is_the_1d_frictional_pair(tmp_path, friction, law):
+    two_case, one_case = friction_cases(tmp_path, friction, law)
     one = solve(tmp_path, one_case, "one")
     pair = one.contact(0)
     two = solve(tmp_path, two_case(float(pair.gap[0])), "two")
@@ -140,6 +150,10 @@ def test_split_column_is_the_1d_frictional_pair(tmp_path, friction):
     errors.update(_energies(two, one, ("kinetic", "external", "contact", "friction",
                                        "numerical"), since=("strain",)))
     errors.update(_energies(two, one, ("strain",), since=("strain",)))
+    if law is not None:            # the lower half yields, and both dissipate alike
+        errors.update(_energies(two, one, ("hysteretic",)))
+        assert two.field.strain_max.max() > 2.0 * law["gamma_ref"]
+        assert two.energy["hysteretic"][-1] > 1e-3 * two.energy["external"][-1]
     print(friction, {k: f"{v:.2g}" for k, v in errors.items()})
     assert np.abs(pair.slip[:]).max() > 1e-3 and one.energy["friction"][-1] > 0   # it slides
     # sliding one way under a constant N dissipates mu N |slip|

@@ -42,3 +42,37 @@ class ZoneTerm:
 
     def apply(self, dz):
         return self.zone.apply(dz)
+
+
+def slab_newton(solver, comm):
+    """The nonlinear terms' Newton of a PlaneSolver on its A_c: interface
+    pairs alone on the pairs' coordinates (vstpetsc.plane.solver.pair_newton)
+    when newton_steps.kind says so, else every term (pairs, a yielding
+    zone) on the slab's unknowns with GMRES steps (contact_newton)."""
+    from vstpetsc.plane.solver.contact_newton import ContactNewton
+    from vstpetsc.plane.solver.newton_steps import kind
+    from vstpetsc.plane.solver.pair_newton import PairNewton
+
+    terms = []
+    if solver.pairs is not None:
+        nodes = solver.pairs.global_nodes
+        index = (2 * (2 * nodes[:, :, None, None] + np.arange(2)[:, None])
+                 + np.arange(2)).reshape(-1, 8)
+        dofs = held_dofs(solver, comm, index)
+        if solver.zone is None and kind(solver.pairs) == "dense":
+            return PairNewton(solver.A, solver.ksp, solver.pairs, dofs, comm)
+        terms.append(PairTerm(solver.pairs, dofs))
+    if solver.zone is not None:
+        terms.append(ZoneTerm(solver.zone, held_dofs(solver, comm, solver.zone.slab_index)))
+    return ContactNewton(solver.A, solver.ksp, terms, comm)
+
+
+def held_dofs(solver, comm, index):
+    """The PairDofs of the global slab indices ``index`` (m, w) (rank 0's),
+    with those of ``solver``'s held rows marked (collective)."""
+    from vstpetsc.plane.solver.contact_newton import PairDofs
+
+    held = comm.tompi4py().gather(4 * solver.model.first + solver.rows, root=0)
+    held = np.isin(index, np.concatenate(held)) if comm.getRank() == 0 \
+        else np.zeros(index.shape, dtype=bool)
+    return PairDofs(comm, index, held)

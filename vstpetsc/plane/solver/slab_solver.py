@@ -22,6 +22,7 @@ from vstpetsc.errors import SolveFailed
 from vstpetsc.petsc.ranks import Ranks
 from vstpetsc.plane.assembly import identity_rows
 from vstpetsc.plane.solver.matrices import petsc_matrix
+from vstpetsc.plane.solver.newton_terms import slab_newton
 from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
 from vstpetsc.results import layout
 
@@ -75,40 +76,8 @@ class PlaneSolver:
         self.restart = PlaneRestart(self)
         self.to_rank0 = gather_to_rank0(model, comm)
         self.pairs, self.zone = model.pairs, model.zone
-        self.newton = None if self.pairs is None and self.zone is None else self._newton(comm)
-
-    def _newton(self, comm):
-        """The nonlinear terms' Newton on A_c: interface pairs alone on the
-        pairs' coordinates (vstpetsc.plane.solver.pair_newton) when
-        newton_steps.kind says so, else every term (pairs, a yielding
-        zone) on the slab's unknowns with GMRES steps (contact_newton)."""
-        from vstpetsc.plane.solver.contact_newton import ContactNewton
-        from vstpetsc.plane.solver.newton_steps import kind
-        from vstpetsc.plane.solver.newton_terms import PairTerm, ZoneTerm
-        from vstpetsc.plane.solver.pair_newton import PairNewton
-
-        terms = []
-        if self.pairs is not None:
-            nodes = self.pairs.global_nodes
-            index = (2 * (2 * nodes[:, :, None, None] + np.arange(2)[:, None])
-                     + np.arange(2)).reshape(-1, 8)
-            dofs = self._dofs(comm, index)
-            if self.zone is None and kind(self.pairs) == "dense":
-                return PairNewton(self.A, self.ksp, self.pairs, dofs, comm)
-            terms.append(PairTerm(self.pairs, dofs))
-        if self.zone is not None:
-            terms.append(ZoneTerm(self.zone, self._dofs(comm, self.zone.slab_index)))
-        return ContactNewton(self.A, self.ksp, terms, comm)
-
-    def _dofs(self, comm, index):
-        """The PairDofs of the global slab indices ``index`` (m, w) (rank
-        0's), with their held ones."""
-        from vstpetsc.plane.solver.contact_newton import PairDofs
-
-        held = comm.tompi4py().gather(4 * self.model.first + self.rows, root=0)
-        held = np.isin(index, np.concatenate(held)) if comm.getRank() == 0 \
-            else np.zeros(index.shape, dtype=bool)
-        return PairDofs(comm, index, held)
+        self.newton = None if self.pairs is None and self.zone is None else \
+            slab_newton(self, comm)
 
     def describe(self):
         pc = self.ksp.getPC()

