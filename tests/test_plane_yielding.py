@@ -63,6 +63,9 @@ def test_the_energy_balance_closes_with_yielding_and_sliding(tmp_path):
           f"numerical {energy['numerical'].min() / largest:.3g} .. "
           f"{energy['numerical'].max() / largest:.3g} of the largest term")
     assert strain_max.max() > 10.0 * MKZ["gamma_ref"]             # it yields strongly
+    p = run_cli("info", tmp_path / "r.h5")
+    line = next(x for x in p.stdout.splitlines() if "largest shear strain" in x)
+    assert f"{strain_max.max():.4g} in cell {int(strain_max.argmax())} at" in line
     assert energy["hysteretic"][-1] > 0.05 * energy["external"][-1]
     # (a branch unloading gives back part of what it stored beyond tau^2 / 2G
     # alone: the loops' work is positive per loop, not at every slab)

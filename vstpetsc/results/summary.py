@@ -190,7 +190,20 @@ def plane_summary(result):
     out["stress"] = [(value, *map(float, centre[k]), float(time[i])) for value, k, i in stress] \
         if cells.size else []
     out["interfaces"] = [interface_summary(result, name) for name in result.interfaces]
+    out["strain"] = largest_strain(result, centre)
     return out
+
+
+def largest_strain(result, centre):
+    """A yielding run's largest equivalent shear strain over the run
+    (/field/strain_max: its cell's centre); None without one."""
+    if "field/strain_max" not in result:
+        return None
+    strain = result.read("field/strain_max")
+    if not strain.size:
+        return None
+    k = int(strain.argmax())
+    return float(strain[k]), k, *map(float, centre[k])
 
 
 def interface_summary(result, name):
@@ -346,6 +359,10 @@ def plane_lines(p):
         lines.append(f"    largest speed {v:.6g} at ({x:.6g}, {y:.6g}), t = {t:.6g}")
     for name, (value, x, y, t) in zip(("sigma_xx", "sigma_yy", "sigma_xy"), p["stress"]):
         lines.append(f"    largest |{name}| {value:.6g} at ({x:.6g}, {y:.6g}), t = {t:.6g}")
+    if p.get("strain") is not None:
+        value, cell, x, y = p["strain"]
+        lines.append(f"    largest shear strain 2 sqrt(J2) {value:.4g} in cell {cell} at "
+                     f"({x:.6g}, {y:.6g}) (yielding regions, over the run)")
     for i in p.get("interfaces", ()):
         lines.append(f"  interface {i['name']}: {i['pairs']} node pairs, length {i['length']:.6g}")
         if i["slip"] is None:
