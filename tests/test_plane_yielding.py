@@ -9,8 +9,8 @@ whatever the law does.
 - `mpirun -n 2` equals one rank within 1e-10 of every dataset (the zone's
   kernels run on rank 0 on gathered unknowns, as the pairs' do);
 - a static start stays at rest (the zone's strains count from it);
-- a restart is refused in one line (the points' state is not in the file
-  yet), and the bad inputs of a shear_law name their key.
+- a restart continues bit for bit (the points' state in
+  /solver/soil_state), and the bad inputs of a shear_law name their key.
 
 (The law against the 1-D law, exactly: tests/test_plane_mkz_column.py and
 tests/test_plane_interface_column.py; the law itself:
@@ -94,13 +94,36 @@ def test_a_static_start_stays_at_rest(tmp_path):
     assert np.abs(hysteretic).max() == 0.0
 
 
-def test_a_restart_is_refused_in_one_line(tmp_path):
+def test_a_restart_continues_bit_for_bit(tmp_path):
+    """Cut at t = 0.15 and continued to 0.3: every dataset as the run
+    that went through (the zone's points' state, /solver/soil_state, taken
+    back whole)."""
+    whole = tmp_path / "whole"
+    whole.mkdir()
+    run(column(whole, end=0.3), whole / "r.h5").close()
+    path, out = column(tmp_path, end=0.15), tmp_path / "r.h5"
+    run(path, out).close()
+    column(tmp_path, end=0.3)
+    run(path, out, "--restart", out).close()
+    with h5py.File(whole / "r.h5", "r") as a, h5py.File(out, "r") as b:
+        names = []
+        a.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
+        assert "field/strain_max" in names and "solver/soil_state" in names
+        for name in names:
+            if name != "solver/wall_time":
+                assert np.array_equal(a[name][...], b[name][...], equal_nan=True), name
+
+
+def test_a_restart_without_the_zone_state_is_refused(tmp_path):
     path, out = column(tmp_path, end=0.05), tmp_path / "r.h5"
     run(path, out).close()
+    with h5py.File(out, "r+") as f:
+        f["solver/soil_state"].attrs["slab"] = -1       # as after a failed last slab
     before = out.read_bytes()
+    column(tmp_path, end=0.1)
     p = run_cli("run", path, "-o", out, "-q", "--restart", out)
     assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
-    assert "shear_law" in p.stderr and "restart" in p.stderr
+    assert "yielding zone state" in p.stderr
     assert out.read_bytes() == before
 
 

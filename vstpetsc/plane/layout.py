@@ -8,7 +8,7 @@ import numpy as np
 from vstpetsc.errors import InputError
 
 from vstpetsc.plane.energy import centre_stress
-from vstpetsc.results.layout import ENERGY, SOLVER, TIME
+from vstpetsc.results.layout import ENERGY, SOIL_STATE, SOLVER, TIME
 from vstpetsc.results.plane_layout import DIMENSION, MESH, PAIR_SERIES, field_path
 from vstpetsc.runner import energy as energy_mod
 
@@ -114,11 +114,11 @@ class RowFiller:
 def last_state(f, model):
     """(slab, u, v, {interface group: its pairs' state}, energies of the
     first row, of the last row)."""
-    if model.zone is not None:
-        raise InputError("--restart: a run with a yielding region (shear_law) cannot restart "
-                         "yet: its points' Masing state is not in the file (issue 46); run "
-                         "it from the start")
     k = int(f["solver/slab"][-1])
+    state = f.get(SOIL_STATE)
+    if model.zone is not None and (state is None or int(state.attrs.get("slab", -1)) != k):
+        raise InputError(f"--restart: the file keeps no yielding zone state at its last row "
+                         f"(slab {k}); run the case from the start")
     u, v = f[field_path("u")][-1], f[field_path("v")][-1]
     energies = [{key.split("/")[1]: f[key][i] for key in ENERGY} for i in (0, -1)]
     pairs = {r.group: {key: f[f"{r.group}/{key}"][-1] for key in PAIR_SERIES}

@@ -27,6 +27,8 @@ start stays at rest."""
 import numpy as np
 import scipy.sparse as sp
 
+from vstpetsc.errors import InputError
+
 from vstpetsc.materials.deviatoric import PlaneMasing, equivalent_strain
 from vstpetsc.materials.deviatoric_slab import slab_integrals
 from vstpetsc.plane.material_points import material_points
@@ -106,6 +108,35 @@ class YieldingZone:
         self.work += float((F * z).sum())
         self.motion = path.commit()
         self._envelope(self.law.eps)
+
+    def snapshot(self):
+        """The zone's state as one flat array (its shape fixed for the run:
+        a restart's dataset is made before the file's SWMR mode): the loops'
+        work, whether a motion is known, the points' strain, stress,
+        deviator, reversal stack and last motion, the cells' strain_max."""
+        law, n = self.law, self.weight.size
+        motion = np.zeros((n, 3)) if self.motion is None else self.motion
+        return np.concatenate([[self.work, float(self.motion is not None)],
+                               law.eps.ravel(), law.sigma.ravel(), law.dev.ravel(),
+                               law.stack.c.ravel(), law.stack.s.ravel(),
+                               law.stack.k.astype(float), motion.ravel(), self.strain_max])
+
+    def restore(self, flat):
+        """Continue from a snapshot (bit for bit)."""
+        law, n = self.law, self.weight.size
+        depth = law.stack.c.shape[1]
+        sizes = [3 * n, 4 * n, 3 * n, 3 * depth * n, 3 * depth * n, n, 3 * n, self.ncells]
+        if flat.size != 2 + sum(sizes):
+            raise InputError(f"--restart: the file's yielding zone state has {flat.size} "
+                             f"values, this case's zone {2 + sum(sizes)}: not the same case")
+        parts = np.split(np.asarray(flat, dtype=float)[2:], np.cumsum(sizes)[:-1])
+        self.work = float(flat[0])
+        law.eps, law.sigma, law.dev = (parts[0].reshape(n, 3), parts[1].reshape(n, 4),
+                                       parts[2].reshape(n, 3))
+        law.stack.c, law.stack.s = parts[3].reshape(n, depth, 3), parts[4].reshape(n, depth, 3)
+        law.stack.k = parts[5].astype(np.int64)
+        self.motion = parts[6].reshape(n, 3) if flat[1] else None
+        self.strain_max = parts[7].copy()
 
     def _envelope(self, eps):
         np.maximum.at(self.strain_max, self.cell, equivalent_strain(eps))

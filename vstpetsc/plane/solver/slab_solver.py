@@ -260,9 +260,17 @@ class PlaneRestart:
 
     def saved(self):
         parts = self.solver.space.gather_on_rank0(self.solver.sums.copy())
-        return None if parts is None else {layout.ENERGY_STATE: np.array(parts)}
+        if parts is None:
+            return None
+        out = {layout.ENERGY_STATE: np.array(parts)}
+        if self.solver.zone is not None:         # a yielding zone's points (rank 0's)
+            out[layout.SOIL_STATE] = self.solver.zone.snapshot()
+        return out
 
     def restore(self, state):
+        zone = self.solver.zone
+        if zone is not None and self.solver.comm.getRank() == 0:
+            zone.restore(state[layout.SOIL_STATE])
         parts = state.get(layout.ENERGY_STATE) if state else None
         if parts is not None and parts.shape[1] < len(SUMS):    # written before interfaces
             parts = np.pad(parts, ((0, 0), (0, len(SUMS) - parts.shape[1])))
