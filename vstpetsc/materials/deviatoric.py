@@ -123,7 +123,9 @@ def equivalent_stress(sigma):
 def tangent_of(dev_tangent, K):
     """d sigma / d eps (..., 4, 3) from ds/dc (..., 3, 3) and the bulk
     moduli K (broadcasting against the leading axes)."""
-    out = np.einsum("ij,...jk,kl->...il", FROM_DEVIATOR, dev_tangent, TO_DEVIATOR)
+    # two broadcast matmuls (a three-operand einsum loops naively: it took a
+    # third of a yielding dam's slab)
+    out = FROM_DEVIATOR @ dev_tangent @ TO_DEVIATOR
     return out + np.asarray(K)[..., None, None] * VOLUMETRIC
 
 

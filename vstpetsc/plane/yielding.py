@@ -96,7 +96,7 @@ class YieldingZone:
         w = self.weight[:, None]
         out = []
         for a in range(2):
-            stress = sum(np.einsum("nij,nj->ni", dQ[:, a, :, b, :], strains[b])
+            stress = sum((dQ[:, a, :, b, :] @ strains[b][:, :, None])[:, :, 0]
                          for b in range(2))
             out.append(self.St @ (w * stress).ravel())
         return np.column_stack(out)
