@@ -92,6 +92,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/plane_slab.py
 	$(PY) bench/plane_parallel.py
 	$(PY) bench/plane_interfaces.py
+	$(PY) bench/plane_yielding.py
 	$(PY) bench/blas_threads.py
 	$(PY) bench/sweep_speed.py
 	$(PY) bench/pile_speed.py

@@ -1,0 +1,79 @@
+"""Yielding regions in 2-D (issue 46): what an MKZ zone costs per slab
+against the same section linear.
+
+An embankment-like section (the generated dam mesh: a 40 m dam on a 40 m
+foundation, cells of about H_CELL) shaken through its absorbing base,
+gravity with a static start; the dam region linear, or yielding (MKZ,
+gamma_ref GAMMA_REF) under a tenth of the shaking ("gentle") and under all
+of it ("strong"); with its base an interface that slides (friction 0.05)
+beside the strong yielding.  One rank, the run's own slab loop after WARM
+slabs (bench/plane_interfaces.py's harness); min / median of REPEATS
+batches of BATCH slabs, the variants interleaved in one process; the
+ratio to the linear section's, and the largest strain reached.
+
+    .venv/bin/python bench/plane_yielding.py [--quick]
+"""
+
+import json
+import os
+import statistics
+import sys
+
+import numpy as np
+
+import plane_interfaces as harness
+import vstpetsc
+
+H_CELL, REPEATS = 2.0, 5
+GAMMA_REF = 3.0e-4
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def section(scale, law, friction=None, h=H_CELL):
+    doc = harness.dam_case(friction, h, scale).doc
+    doc = {**doc, "region": [dict(r) for r in doc["region"]]}
+    dam = doc["region"][0]
+    dam.update({"E": 2.0e8, "nu": 0.3, "rho": 2100.0})      # rockfill, not concrete
+    if law:
+        dam["shear_law"] = {"model": "mkz", "gamma_ref": GAMMA_REF, "beta": 1.0, "s": 0.919}
+    return vstpetsc.Case.from_dict(doc)
+
+
+def measure(h, repeats):
+    variants = {"linear": harness.build(section(1.0, False, h=h)),
+                "yielding, gentle": harness.build(section(harness.GENTLE, True, h=h)),
+                "yielding, strong": harness.build(section(1.0, True, h=h)),
+                "yielding, strong, base sliding": harness.build(section(1.0, True, 0.05, h))}
+    times = {name: [] for name in variants}
+    for _ in range(repeats):
+        for name, part in variants.items():
+            times[name].append(harness.batch(part))
+    base = statistics.median(times["linear"])
+    out = {"cells": variants["linear"][3].ncells}
+    for name, t in times.items():
+        zone = variants[name][3].zone
+        out[name] = {"min_ms": 1e3 * min(t), "median_ms": 1e3 * statistics.median(t),
+                     "ratio_median": statistics.median(t) / base,
+                     "strain_max_over_gamma_ref": 0.0 if zone is None else
+                     float(np.max(zone.strain_max)) / GAMMA_REF}
+    return out
+
+
+def main(argv):
+    quick = "--quick" in argv
+    if quick:
+        harness.WARM, harness.BATCH = 5, 3
+    out = measure(4.0 if quick else H_CELL, 2 if quick else REPEATS)
+    print(f"{out['cells']} cells; ms per slab (min / median), ratio of medians to linear:")
+    for name, row in out.items():
+        if isinstance(row, dict):
+            print(f"  {name:32s} {row['min_ms']:8.2f} / {row['median_ms']:8.2f}  "
+                  f"x {row['ratio_median']:.2f}  strain_max {row['strain_max_over_gamma_ref']:.3g}"
+                  " gamma_ref")
+    if not quick:
+        with open(os.path.join(HERE, "plane_yielding.json"), "w") as f:
+            json.dump(out, f, indent=1)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
