@@ -85,13 +85,14 @@ def elastic_matrix(G, K):
     return C
 
 
-def evaluate(law, stack, eps):
+def evaluate(law, stack, eps, k=None):
     """At strains ``eps`` (n, m, 3) reached from ``stack`` without a turn
-    (the rejoin rule, then the branch in use): in-plane stresses (n, m, 3),
-    their tangent d sigma / d eps (n, m, 3, 3), the stress deviator
-    (n, m, 3) and the depth (n, m)."""
+    (the rejoin rule, then the branch in use; or the given depths ``k``
+    (n, m), frozen): in-plane stresses (n, m, 3), their tangent
+    d sigma / d eps (n, m, 3, 3), the stress deviator (n, m, 3) and the
+    depth (n, m)."""
     c = dv.deviator(eps)
-    k = stack.depth_at(c)
+    k = stack.depth_at(c) if k is None else k
     s, ds = stack.stress(law.backbone, c, k)
     K = law.K[:, None]
     sigma = dv.components(s, K * (eps[..., 0] + eps[..., 1]))
@@ -114,14 +115,46 @@ def start_heading(law, motion=None):
     return n0
 
 
+class Decisions:
+    """A slab path's discrete choices per point: the start reversal
+    ``turned``, the inside turn ``reverses``, the clipped cut ``cut`` (0 or
+    1 where it does not turn inside), the depths of the turn point ``kc``
+    (n, 1) and of each piece's Gauss points ``k`` (two (n, m)).  Given to
+    a SlabPath they are kept whatever D (the rejoin tests and the turn
+    tests not made): Q is then smooth in D (docs/nonlinear-soil.md
+    section 8, "The zone's Newton")."""
+
+    def __init__(self, turned, reverses, cut, kc, k):
+        self.turned, self.reverses, self.cut, self.kc, self.k = turned, reverses, cut, kc, k
+
+    def differ(self, other):
+        """Per point (n,): where ``other``'s choices are not these."""
+        out = (self.turned != other.turned) | (self.reverses != other.reverses)
+        out |= ~self.reverses & (self.cut != other.cut)
+        out |= (self.kc != other.kc).any(axis=1)
+        for mine, theirs in zip(self.k, other.k):
+            out |= (mine != theirs).any(axis=1)
+        return out
+
+    def merged(self, other, where):
+        """These choices with ``other``'s at the points ``where`` (n,)."""
+        pick = [lambda a, b: np.where(where, b, a),
+                lambda a, b: np.where(where[:, None], b, a)]
+        return Decisions(pick[0](self.turned, other.turned),
+                         pick[0](self.reverses, other.reverses), pick[0](self.cut, other.cut),
+                         pick[1](self.kc, other.kc),
+                         [pick[1](a, b) for a, b in zip(self.k, other.k)])
+
+
 class SlabPath:
     """The strain path of every point through one slab for D1, D2 (n, 3):
     its cut, pieces, Gauss points and the stacks they start from (the 2-D
     masing.SlabPath).  ``law`` is the slab start's PlaneMasing (not
     changed), ``motion`` the last motion's direction (what commit returned;
-    None: law.heading() alone)."""
+    None: law.heading() alone); ``frozen`` Decisions to keep (None: the
+    rules decide)."""
 
-    def __init__(self, law, D1, D2, motion=None):
+    def __init__(self, law, D1, D2, motion=None, frozen=None):
         self.law, self.D1, self.D2 = law, D1, D2
         dD1, dD2 = dv.deviator(D1), dv.deviator(D2)
         n0 = start_heading(law, motion)
@@ -133,18 +166,17 @@ class SlabPath:
         self.n0 = n0
         a, b = np.sum(n0 * dD1, axis=1), np.sum(n0 * dD2, axis=1)
         self.a, self.b = a, b
-        self.turned = np.where(a != 0.0, a, b) < 0.0
-        self.reverses = a * b < 0.0
-        diff = a - b
-        self.cut = np.clip(a / np.where(diff != 0.0, diff, 1.0), 0.0, 1.0)
-        self.cut[diff == 0.0] = 1.0
+        self.frozen = frozen
+        self._cut_and_flags(a, b, frozen)
         self.start = law.pushed(self.turned)
         c = self.cut[:, None]
         self.theta = (c * XG, c + (1.0 - c) * XG)
         self.weight = (c * WG, (1.0 - c) * WG)
         # the turn point theta*: its strain, stress and tangent on the first piece
         self.eps_c = strain(law.eps, D1, D2, c)
-        _, self.tangent_c, s_c, kc = evaluate(law, self.start, self.eps_c)
+        _, self.tangent_c, s_c, kc = evaluate(law, self.start, self.eps_c,
+                                              None if frozen is None else frozen.kc)
+        self.kc, self.depths = kc, [None, None]
         self.second = self.start
         if self.reverses.any():
             self.second = self.start.copy()
@@ -154,13 +186,34 @@ class SlabPath:
         self.motion = np.where(dD2.any(axis=1)[:, None], moved[0],
                                np.where(dD1.any(axis=1)[:, None], moved[1], n0))
 
+    def _cut_and_flags(self, a, b, frozen):
+        """turned, reverses, cut; ``inside``: where the cut moves with D
+        (a frozen inside turn whose a, b no longer change sign is clipped
+        and fixed)."""
+        diff = a - b
+        self.cut = np.clip(a / np.where(diff != 0.0, diff, 1.0), 0.0, 1.0)
+        self.cut[diff == 0.0] = 1.0
+        if frozen is None:
+            self.turned = np.where(a != 0.0, a, b) < 0.0
+            self.reverses = self.inside = a * b < 0.0
+            return
+        self.turned, self.reverses = frozen.turned, frozen.reverses
+        self.inside = self.reverses & (a * b < 0.0)
+        self.cut = np.where(self.reverses, self.cut, frozen.cut)
+
+    def decisions(self):
+        """The Decisions this path took (after pieces())."""
+        return Decisions(self.turned, self.reverses, self.cut, self.kc, list(self.depths))
+
     def pieces(self):
         """((theta, weight, eps, sigma, tangent, depth) of each piece):
         in-plane stresses and their tangent (evaluate)."""
         out = []
         for j, stack in enumerate((self.start, self.second)):
             eps = strain(self.law.eps, self.D1, self.D2, self.theta[j])
-            sigma, tangent, _, k = evaluate(self.law, stack, eps)
+            sigma, tangent, _, k = evaluate(self.law, stack, eps,
+                                            None if self.frozen is None else self.frozen.k[j])
+            self.depths[j] = k
             out.append((self.theta[j], self.weight[j], eps, sigma, tangent, k))
         return out
 
@@ -168,7 +221,7 @@ class SlabPath:
         """d theta* / d D_b (n, 2, 3), zero where the path does not turn
         inside (theta* clipped, or no turn)."""
         a, b, n0 = self.a, self.b, self.n0
-        rev = self.reverses
+        rev = self.inside
         den = np.where(rev, (a - b) ** 2, 1.0)
         grad = n0 @ dv.TO_DEVIATOR                       # d(n0 . dD)/dD, n0 fixed
         db1 = np.zeros_like(grad)
@@ -211,13 +264,13 @@ class SlabPath:
         return motion
 
 
-def slab_integrals(law, D1, D2, dt, motion=None, tangent=True):
+def slab_integrals(law, D1, D2, dt, motion=None, tangent=True, frozen=None):
     """(Q (n, 2, 3), dQ/dD (n, 2, 3, 2, 3) or None, the SlabPath) of the
     slab from ``law``'s state for strain increments D1, D2 (n, 3): the
     correction integrals Q_a = dt int T_a (sigma - C_el eps) dtheta by the
     Gauss rule of each piece and the derivative of those sums (the module's
-    docstring: terms (a), (b), (c))."""
-    path = SlabPath(law, D1, D2, motion)
+    docstring: terms (a), (b), (c)); ``frozen`` Decisions to keep."""
+    path = SlabPath(law, D1, D2, motion, frozen)
     n = D1.shape[0]
     C = elastic_matrix(law.backbone.G[:, 0], law.K)
     Q = np.zeros((n, 2, 3))

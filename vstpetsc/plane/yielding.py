@@ -78,12 +78,15 @@ class YieldingZone:
         self.work = self.stored0 = 0.0           # the slab sums of v . F so far
         self.strain_max = np.zeros(self.ncells)
         self._last = None
+        self.frozen = None              # the points' decisions kept (None: the rules decide)
 
     def evaluate(self, z):
-        """The forces F (m, 2) at the zone's unknowns z (m, 2)."""
+        """The forces F (m, 2) at the zone's unknowns z (m, 2) (with the
+        ``frozen`` decisions, when set)."""
         D1 = self.dt * (self.S @ z[:, 0]).reshape(-1, 3)
         D2 = self.dt * (self.S @ z[:, 1]).reshape(-1, 3)
-        Q, dQ, path = slab_integrals(self.law, D1, D2, self.dt, self.motion)
+        Q, dQ, path = slab_integrals(self.law, D1, D2, self.dt, self.motion,
+                                     frozen=self.frozen)
         w = self.weight[:, None]
         F = np.column_stack([self.St @ (w * Q[:, a]).ravel() for a in range(2)])
         self._last = (path, F, z, dQ)
@@ -100,6 +103,10 @@ class YieldingZone:
                          for b in range(2))
             out.append(self.St @ (w * stress).ravel())
         return np.column_stack(out)
+
+    def decisions(self):
+        """The last evaluation's Decisions (deviatoric_slab)."""
+        return self._last[0].decisions()
 
     def finish_slab(self):
         """Take the last evaluated slab as converged: the law's state moves

@@ -35,6 +35,8 @@ RTOL = 1e-12
 MAX_IT = 60
 FULL_STEPS = 12
 HALVINGS = 20
+ROUNDS = 8          # a yielding zone's decision sets tried in one slab
+FREEZE_AFTER = 5    # a zone's decisions are kept from this iteration on (before: the rules decide)
 
 
 class PairDofs:
@@ -102,7 +104,53 @@ class HeldWork:
                    if t.values is not None and t.dofs.held.any())
 
 
-class ContactNewton(HeldWork):
+class FrozenDecisions:
+    """A yielding zone's discrete decisions (each point's start reversal,
+    inside turn, clipped cut, depths at its turn point and Gauss points:
+    deviatoric_slab.Decisions) kept fixed while the Newton converges, the
+    residual then smooth (the law's stress jumps where a branch is left off
+    its target, and the Newton's line search stalls on them); at
+    convergence the rules decide afresh at the solution and the Newton
+    continues from there with the new decisions when any point's changed
+    (an active-set loop).  A point whose decisions changed LOCK times in
+    the slab keeps its last (newton_terms.ZoneTerm.settle); after ROUNDS
+    sets the last converged state is taken with its decisions.
+    ``self.undecided`` counts the points whose rules' decisions disagreed
+    with the accepted ones, over the run."""
+
+    def _zones(self):
+        return [t for t in self.terms if hasattr(t, "freeze")]
+
+    def _start_decisions(self):
+        """The rules' decisions at the last evaluation (at x) are kept from
+        now on."""
+        self.frozen = True
+        for zone in self._zones():
+            zone.freeze()
+
+    def _settle(self, b, x, norm):
+        """At a converged iterate: (settled, |R| with the decisions now kept)."""
+        zones = self._zones()
+        if not zones or not self.frozen:
+            return True, norm
+        kept = [zone.thaw() for zone in zones]
+        fresh = self._residual(b, x, self.R)          # the rules decide at x
+        counts = np.sum([zone.settle(k) for zone, k in zip(zones, kept)], axis=0)
+        moved, held = self.comm.tompi4py().bcast(tuple(int(c) for c in counts), root=0)
+        if moved == 0 and held == 0:
+            return True, fresh
+        self.rounds += moved > 0
+        if moved and self.rounds >= ROUNDS:
+            for zone, k in zip(zones, kept):         # take the state converged with ``kept``
+                zone.restore(k)
+            moved, held = 0, held + moved
+        norm = self._residual(b, x, self.R)
+        if moved == 0:
+            self.undecided += held
+        return moved == 0, norm
+
+
+class ContactNewton(FrozenDecisions, HeldWork):
     """Newton for the slabs of ``A_c`` (its solver ``inner``, set up) with
     nonlinear ``terms`` (vstpetsc.plane.solver.newton_terms: interface
     pairs, yielding zones; kernels and state on rank 0), in one Newton."""
@@ -118,6 +166,7 @@ class ContactNewton(HeldWork):
         self.steps = KrylovSteps(self)
         self.linear = True
         self.krylov = 0
+        self.undecided = 0
 
     def _residual(self, b, x, R):
         """R = A_c x - b + the terms' residuals at x (their kernels
@@ -141,14 +190,26 @@ class ContactNewton(HeldWork):
         for messages); returns (Newton iterations, Krylov iterations)."""
         self.krylov = 0
         scale = b.norm()
+        for zone in self._zones():
+            zone.start()
         norm = self._residual(b, x, self.R)
-        for it in range(MAX_IT + 1):
+        it = start = self.rounds = 0
+        self.frozen = False
+        while True:
+            if it == FREEZE_AFTER and not self.frozen and self._zones():
+                self._start_decisions()
+                start = it
             if norm <= RTOL * (scale + self.ax_norm):
-                return it, self.krylov
+                settled, norm = self._settle(b, x, norm)
+                if settled:
+                    return it, self.krylov
+                start = it
+                continue
             if it == MAX_IT:
                 break
             self._step()
-            norm = self._line(b, x, norm, it)
+            norm = self._line(b, x, norm, it - start)
+            it += 1
         raise SolveFailed(f"slab {k}: the interfaces' Newton did not converge in {MAX_IT} "
                           f"iterations (|R| = {norm:.3g})")
 

@@ -7,6 +7,8 @@ with A_c), ``apply(dz)`` its Jacobian's entries beyond A_c times dz;
 
 import numpy as np
 
+LOCK = 2            # a zone point's decision changes in one slab before it is held
+
 
 class PairTerm:
     """Interface pairs (vstpetsc.plane.pairs.PairSet): f - W_c y beyond
@@ -42,6 +44,46 @@ class ZoneTerm:
 
     def apply(self, dz):
         return self.zone.apply(dz)
+
+    def start(self):
+        """At a slab's start: the rules decide (nothing kept, no point
+        changed yet)."""
+        if self.dofs.rank0:
+            self.zone.frozen, self.changes = None, np.zeros(self.zone.law.eps.shape[0], int)
+
+    def freeze(self):
+        """Keep the last evaluation's decisions in the evaluations to come."""
+        if self.dofs.rank0:
+            self.zone.frozen = self.zone.decisions()
+
+    def restore(self, decisions):
+        """Keep ``decisions`` (rank 0's)."""
+        if self.dofs.rank0:
+            self.zone.frozen = decisions
+
+    def thaw(self):
+        """Let the rules decide again; the decisions kept so far."""
+        if not self.dofs.rank0:
+            return None
+        kept, self.zone.frozen = self.zone.frozen, None
+        return kept
+
+    def settle(self, kept):
+        """After an evaluation by the rules at a state converged with the
+        ``kept`` decisions: keep the rules' new decisions, except at points
+        that changed LOCK times already in this slab (they keep theirs: a
+        point flipping at a stress jump has no consistent state);
+        (points changed, points held against the rules) (rank 0; zeros
+        elsewhere)."""
+        if not self.dofs.rank0:
+            return 0, 0
+        fresh = self.zone.decisions()
+        differ = kept.differ(fresh)
+        held = differ & (self.changes >= LOCK)
+        moved = differ & ~held
+        self.changes += moved
+        self.zone.frozen = fresh.merged(kept, held)
+        return int(moved.sum()), int(held.sum())
 
 
 def slab_newton(solver, comm):
