@@ -101,3 +101,12 @@ def test_a_zoned_dam_converges_where_the_line_search_stalled(tmp_path, monkeypat
     assert energy["numerical"].max() <= 1e-3 * largest
     assert (table[:, 3] <= table[:, 4]).all()            # converged with the kept decisions
     assert (table[:, 5] <= table[:, 2]).all()            # the rules agree but at held points
+
+
+def test_the_kept_decisions_on_two_ranks_equal_one(tmp_path):
+    """The active-set loop's decisions are rank 0's (the zone's kernels
+    run there on gathered unknowns) and broadcast: two ranks take the
+    same ones and every dataset agrees within 1e-10 of one rank."""
+    from test_plane_run import mpirun_against_one_rank
+
+    mpirun_against_one_rank(tmp_path, small_dam(tmp_path, end=0.7))

@@ -283,19 +283,23 @@ def slab_integrals(law, D1, D2, dt, motion=None, tangent=True, frozen=None):
     for j, (theta, w, eps, sigma, tan, k) in enumerate(path.pieces()):
         c = sigma - np.einsum("nij,nmj->nmi", C, eps)
         T = np.stack((1.0 - theta, theta), axis=-1)
-        Q += np.einsum("nm,nma,nmi->nai", w, T, c)
+        # (w T) first: the multi-operand einsums contract pairwise in this
+        # order instead of one naive loop over every index (they took most
+        # of a yielding dam's slab)
+        wT = w[:, :, None] * T
+        Q += np.einsum("nma,nmi->nai", wT, c)
         if not tangent:
             continue
         dc = tan - C[:, None]
         ib = np.stack((theta - 0.5 * theta * theta, 0.5 * theta * theta), axis=-1)
-        dQ += np.einsum("nm,nma,nmij,nmb->naibj", w, T, dc, ib)
+        dQ += np.einsum("nma,nmijb->naibj", wT, dc[..., None] * ib[:, :, None, None, :])
         if not turning:
             continue
         if j == 1:
             # the new branch s* + S(e - e*): d/d e* = T_before(e*) - T_branch(e)
             on = path.reverses[:, None] & (k == path.second.k[:, None])
             jump = (path.tangent_c - tan) * on[..., None, None]
-            dQ += np.einsum("nm,nma,nmil,nlbj->naibj", w, T, jump, de_c)
+            dQ += np.einsum("nail,nlbj->naibj", np.einsum("nma,nmil->nail", wT, jump), de_c)
         d_cut_sums += cut_terms(j, path, theta, c, dc, T)
     Q *= dt
     if tangent:
