@@ -150,7 +150,7 @@ class PlaneModel:
     def __init__(self, case, comm):
         self.case, self.comm = case, comm
         self.laws, self.recorded, self.bodies, self.soil = [], [], [], None
-        self.zone = None
+        self.zone = self.factors = None     # factors: confinement's (vstpetsc.plane.confinement)
         rank0 = comm.getRank() == 0
         error, mesh, split = None, None, None
         if rank0:
@@ -235,6 +235,8 @@ class PlaneModel:
         zone = None
         if self.comm.getRank() == 0:
             cells, params = zone_cells(self._regions(self.mesh.region_names), self.mesh.region)
+            if self.factors is not None:            # gamma_ref scaled as G
+                params["gamma_ref"] = params["gamma_ref"] * self.factors[cells]
             mat = self.cell_materials
             zone = YieldingZone(self.mesh, cells, mat["lam"], mat["mu"], params, self.case.dt,
                                 global_of)

@@ -15,10 +15,12 @@ def run_parts(case, comm):
     model = PlaneModel(case, comm)
     static, extra = None, ()
     if case.gravity is not None and case.gravity.initial == "static":
+        from vstpetsc.plane.confinement import confined, confined_static
         from vstpetsc.plane.loads import gravity_pattern
         from vstpetsc.plane.solver.static import static_state
 
-        static = static_state(model, gravity_pattern(model))
+        static = confined_static(model) if confined(case) else \
+            static_state(model, gravity_pattern(model))
         extra = (static.reactions,)
     loads = plane_loads(model, case.dt, extra)
     solver = PlaneSolver(model, case.dt, comm, loads)

@@ -20,9 +20,11 @@ TOP = ("time", "output", "units", "gravity", "gauge", "mesh", "region", "boundar
 GENERATED = {"rectangle": ("x", "y", "nx", "ny", "triangles", "joints"),
              "dam": ("height", "crest", "upstream", "downstream", "foundation_depth",
                      "foundation_width", "h")}
-REGION_KEYS = ("name", "E", "nu", "Vs", "Vp", "rho", "damping", "mass", "v0", "u0", "shear_law")
+REGION_KEYS = ("name", "E", "nu", "Vs", "Vp", "rho", "damping", "mass", "v0", "u0", "shear_law",
+               "confinement")
 BOUNDARY_KEYS = ("name", "type", "value", "rock", "incident", "motion")
 TYPES = ("fixed", "velocity", "traction", "absorbing")
+CONFINEMENT = ("p_ref", "exponent")
 MASSES = ("averaged", "consistent", "lumped")
 MOTIONS = ("incident", "outcrop")
 INTERFACE_KEYS = ("name", "friction", "formulation", "penalty")
@@ -53,6 +55,7 @@ class RegionSpec:
     v0: tuple = (0.0, 0.0)
     u0: tuple = (0.0, 0.0)
     shear_law: dict = None      # {"gamma_ref", "beta", "s"} of MKZ (issue 46), None: linear
+    confinement: dict = None    # {"p_ref", "exponent"} (vstpetsc.plane.confinement), None: none
 
     @property
     def vp(self):
@@ -134,6 +137,11 @@ def read_rest(chk, doc, parts):
     if parts["gravity"] is not None and parts["gravity"].initial == "static" and moved:
         chk.add("gravity.initial", f"\"static\" computes the initial displacements; "
                 f"region {moved[0]!r} gives u0 as well")
+    static = parts["gravity"] is not None and parts["gravity"].initial == "static"
+    for i, r in enumerate(parts["plane"].regions):
+        if r.confinement is not None and not static:
+            chk.add(f"region[{i}] ({r.name}).confinement", "needs [gravity] with initial = "
+                    "\"static\" (each cell's moduli come from its mean stress there)")
     parts.update(bodies=[], contacts=[], bcs=[], soils=[])
 
 
@@ -268,9 +276,10 @@ def read_regions(chk, tables):
                           choices=MASSES)
         v0, u0 = (_vector(chk, tbl, key, where) for key in ("v0", "u0"))
         law = _shear_law(chk, tbl, where)
+        confinement = _confinement(chk, tbl, where)
         parts = (name, rho, lame, damping, mass, v0, u0)
-        if None not in parts and law is not False:
-            out.append(RegionSpec(name, *lame, rho, damping, mass, v0, u0, law))
+        if None not in parts and law is not False and confinement is not False:
+            out.append(RegionSpec(name, *lame, rho, damping, mass, v0, u0, law, confinement))
     return out
 
 
@@ -300,6 +309,23 @@ def _shear_law(chk, tbl, where):
                 f"got {law['s']:g}")
         return False
     return law
+
+
+def _confinement(chk, tbl, where):
+    """A region's ``confinement`` (docs/nonlinear-soil.md section 8): None
+    when absent, {p_ref, exponent}, or False after reporting."""
+    if "confinement" not in tbl:
+        return None
+    name, value = f"{where}.confinement", tbl["confinement"]
+    if not isinstance(value, dict):
+        chk.add(name, f"must be a table {{ p_ref = ..., exponent = ... }}, got {show(value)}")
+        return False
+    chk.unknown(value, CONFINEMENT, name)
+    p_ref = chk.number(value, "p_ref", name, positive=True)
+    exponent = chk.number(value, "exponent", name, minimum=0.0, maximum=1.0)
+    if None in (p_ref, exponent):
+        return False
+    return {"p_ref": p_ref, "exponent": exponent}
 
 
 def _lame(chk, tbl, where, rho):

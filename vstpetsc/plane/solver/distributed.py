@@ -41,6 +41,7 @@ class LocalMesh:
     size: int
     comm: object
     original: np.ndarray = None
+    original_cells: np.ndarray = None
 
 
 def plex(mesh, comm, curve_names):
@@ -103,7 +104,7 @@ def distribute(mesh, comm, overlap=1, names=None):
         every = np.arange(mesh.nnodes)
         return LocalMesh(mesh, every, np.ones(mesh.nnodes, dtype=bool),
                          np.ones(mesh.ncells, dtype=bool), 0, mesh.nnodes, mesh.nnodes, comm,
-                         every)
+                         every, np.arange(mesh.ncells))
     if names is None:
         names = comm.tompi4py().bcast(
             (mesh.region_names, tuple(mesh.curves)) if rank == 0 else None, root=0)
@@ -132,8 +133,9 @@ def distribute(mesh, comm, overlap=1, names=None):
     if leaves is not None and len(leaves):
         leaves = np.asarray(leaves)
         owned_cells[leaves[(leaves >= c0) & (leaves < c1)] - c0] = False
+    cells = point[c0:c1].astype(np.int64)     # rank 0's cells are its points 0 .. ne - 1
     return LocalMesh(lm, global_vertex, owned, owned_cells, start, start + counts[rank],
-                     sum(counts), comm, original)
+                     sum(counts), comm, original, cells)
 
 
 def _migrated(sf, root, chart):
