@@ -110,6 +110,9 @@ class _Preconditioner:
         self.inner.solve(x, y)
 
 
+ZONE_RTOL = 1e-6
+
+
 class KrylovSteps:
     """GMRES steps preconditioned by A_c's solver (options prefix
     ``vst_contact_``)."""
@@ -122,7 +125,12 @@ class KrylovSteps:
         self.ksp.setOptionsPrefix("vst_contact_")
         self.ksp.setOperators(J)
         self.ksp.setType("gmres" if nw.inner.getType() == "preonly" else "fgmres")
-        self.ksp.setTolerances(rtol=1e-12, atol=0.0, max_it=1000)
+        # with a yielding zone each step need not be exact (the Newton's own
+        # tolerance decides): 1e-6 took 14 solves a slab where 1e-12 took
+        # 21, the iterations the same (rockfill-dam with MKZ, 1.3x faster);
+        # pairs alone keep 1e-12 (their runs as they were)
+        exact = all(term.exact_steps for term in nw.terms)
+        self.ksp.setTolerances(rtol=1e-12 if exact else ZONE_RTOL, atol=0.0, max_it=1000)
         self.ksp.setGMRESRestart(200)
         pc = self.ksp.getPC()
         pc.setType("python")

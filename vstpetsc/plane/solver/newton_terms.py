@@ -14,6 +14,8 @@ class PairTerm:
     """Interface pairs (vstpetsc.plane.pairs.PairSet): f - W_c y beyond
     A_c's closed, sticking springs."""
 
+    exact_steps = True          # GMRES steps to 1e-12 (newton_steps.KrylovSteps)
+
     def __init__(self, pairs, dofs):
         self.pairs, self.dofs = pairs, dofs
         self.values = self.z = self.blocks = None
@@ -33,6 +35,8 @@ class PairTerm:
 class ZoneTerm:
     """A yielding zone (vstpetsc.plane.yielding.YieldingZone): its points'
     stress beyond the linear one, never linear."""
+
+    exact_steps = False         # GMRES steps to newton_steps.ZONE_RTOL
 
     def __init__(self, zone, dofs):
         self.zone, self.dofs = zone, dofs
