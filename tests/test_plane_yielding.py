@@ -46,6 +46,18 @@ def column(folder, end=0.4, law=MKZ, static=True, interface=True):
     return path
 
 
+def assert_same_bits(one, two):
+    """Every dataset of result file ``one`` the same bits in ``two`` (but the
+    wall time); their names."""
+    with h5py.File(one, "r") as a, h5py.File(two, "r") as b:
+        names = []
+        a.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
+        for name in names:
+            if name != "solver/wall_time":
+                assert np.array_equal(a[name][...], b[name][...], equal_nan=True), name
+    return names
+
+
 def run(path, out, *extra):
     p = run_cli("run", path, "-o", out, "-q", *extra)
     assert p.returncode == 0, p.stderr
@@ -105,13 +117,25 @@ def test_a_restart_continues_bit_for_bit(tmp_path):
     run(path, out).close()
     column(tmp_path, end=0.3)
     run(path, out, "--restart", out).close()
-    with h5py.File(whole / "r.h5", "r") as a, h5py.File(out, "r") as b:
-        names = []
-        a.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
-        assert "field/strain_max" in names and "solver/soil_state" in names
-        for name in names:
-            if name != "solver/wall_time":
-                assert np.array_equal(a[name][...], b[name][...], equal_nan=True), name
+    names = assert_same_bits(whole / "r.h5", out)
+    assert "field/strain_max" in names and "solver/soil_state" in names
+
+
+def test_a_restart_on_two_ranks_continues_bit_for_bit(tmp_path):
+    """The same on two ranks: the zone's state is rank 0's, the energy
+    sums each rank's; every dataset as the two-rank run that went through."""
+    from test_parallel import mpirun
+
+    whole = tmp_path / "whole"
+    whole.mkdir()
+    path, out = column(tmp_path, end=0.15), tmp_path / "r.h5"
+    for args in ((column(whole, end=0.3), "-o", whole / "r.h5"), (path, "-o", out)):
+        p = mpirun("run", *args, "-q")
+        assert p.returncode == 0, p.stderr
+    column(tmp_path, end=0.3)
+    p = mpirun("run", path, "-o", out, "-q", "--restart", out)
+    assert p.returncode == 0, p.stderr
+    assert_same_bits(whole / "r.h5", out)
 
 
 def test_a_restart_without_the_zone_state_is_refused(tmp_path):
