@@ -166,3 +166,25 @@ def test_a_bad_shear_law_names_its_key(tmp_path, law, key, words):
     assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
     assert f"region[0] (domain).{key}" in p.stderr and words in p.stderr, p.stderr
     assert not out.exists()
+
+
+def test_a_sweep_summary_has_the_strain_and_the_loops(tmp_path):
+    """`vstpetsc sweep` over a yielding plane-strain case: each row's
+    strain_max and hysteretic are its file's largest /field/strain_max and
+    last /energy/hysteretic."""
+    import csv
+
+    path = column(tmp_path, end=0.1)
+    p = run_cli("sweep", path, "--set", "region.domain.shear_law.gamma_ref=2e-4,4e-4",
+                "-o", tmp_path / "sweep", "-q")
+    assert p.returncode == 0, p.stderr
+    with open(tmp_path / "sweep" / "summary.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 2
+    for row in rows:
+        with h5py.File(tmp_path / "sweep" / row["file"], "r") as r:
+            assert float(row["strain_max"]) == pytest.approx(r["field/strain_max"][...].max(),
+                                                             rel=1e-12)
+            assert float(row["hysteretic"]) == pytest.approx(r["energy/hysteretic"][-1],
+                                                             rel=1e-12)
+    assert float(rows[0]["strain_max"]) > float(rows[1]["strain_max"])   # softer yields more

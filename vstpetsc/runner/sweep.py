@@ -89,7 +89,13 @@ def shear_quantities(s):
     ``hysteretic``, the last /energy/hysteretic (0 without a hysteretic
     soil); {} for a run without one (its cells empty in the sweep's
     summary), and no ``strain_max`` or ``hysteretic`` where the file lacks
-    the dataset (an older file)."""
+    the dataset (an older file).  A plane-strain run with a yielding region
+    gives the same two: its largest /field/strain_max and hysteretic
+    energy."""
+    plane = s.get("plane") or {}
+    if plane.get("strain") is not None:      # a plane-strain run with a yielding region
+        return {"strain_max": plane["strain"][0],
+                "hysteretic": s["energy"].get("hysteretic", math.nan)}
     peaks = [b["shear"] for b in s["bodies"] if "shear" in b]
     if not peaks:
         return {}
