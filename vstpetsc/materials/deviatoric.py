@@ -71,7 +71,7 @@ reached from a stack (as masing.MasingState.stress_at).
 
 import numpy as np
 
-from vstpetsc.materials.masing import DEPTH, Backbone
+from vstpetsc.materials.masing import DEPTH, Backbone, push_points
 
 SQ2, SQ6 = np.sqrt(2.0), np.sqrt(6.0)
 # (exx, eyy, gxy) -> c and s -> (sxx, syy, sxy, szz): the transpose of
@@ -161,17 +161,8 @@ class DeviatorStack:
         return out
 
     def push(self, mask, c, s):
-        """Push (c, s) (n, 3) on the points of ``mask``; a full stack
-        forgets its oldest closed pair above R_1, as masing.Stack."""
-        full = mask & (self.k >= DEPTH)
-        if full.any():
-            for arr in (self.c, self.s):
-                arr[full, 1:DEPTH - 2] = arr[full, 3:DEPTH]
-            self.k[full] -= 2
-        r = self.rows[mask]
-        self.c[r, self.k[mask]] = c[mask]
-        self.s[r, self.k[mask]] = s[mask]
-        self.k[mask] += 1
+        """Push (c, s) (n, 3) on the points of ``mask`` (masing.push_points)."""
+        push_points((self.c, self.s), (c, s), self.k, self.rows, mask)
 
     def top(self, k):
         """(c_k, s_k) (n, m, 3) of depths ``k`` (n, m) (row 0 where k = 0)."""

@@ -52,6 +52,24 @@ class Backbone:
         return self.G * g / den, self.G * (1.0 + (1.0 - self.s) * bx) / (den * den)
 
 
+def push_points(stacks, values, k, rows, mask):
+    """Push ``values`` (one array per stack, a row per element) on the
+    ``stacks`` (n, DEPTH, ...) at depths ``k`` (n,) of the elements of
+    ``mask``, in place (k too).  A full stack forgets its oldest closed pair
+    above R_1 (the branch in use is kept, so the stress stays continuous;
+    only that old loop's memory is lost).  Shared by the 1-D stack and
+    the plane-strain deviators' (vstpetsc.materials.deviatoric)."""
+    full = mask & (k >= DEPTH)
+    if full.any():
+        for arr in stacks:
+            arr[full, 1:DEPTH - 2] = arr[full, 3:DEPTH]
+        k[full] -= 2
+    r = rows[mask]
+    for arr, value in zip(stacks, values):
+        arr[r, k[mask]] = value[mask]
+    k[mask] += 1
+
+
 class Stack:
     """Reversal points of every element: strains ``g`` and stresses ``t``
     (ne, DEPTH), depth ``k`` (ne,)."""
@@ -67,18 +85,8 @@ class Stack:
         return out
 
     def push(self, mask, g, t):
-        """Push (g, t) on the elements of ``mask``; a full stack forgets its
-        oldest closed pair above R_1 (the branch in use is kept, so the
-        stress stays continuous; only that old loop's memory is lost)."""
-        full = mask & (self.k >= DEPTH)
-        if full.any():
-            for arr in (self.g, self.t):
-                arr[full, 1:DEPTH - 2] = arr[full, 3:DEPTH]
-            self.k[full] -= 2
-        r = self.rows[mask]
-        self.g[r, self.k[mask]] = g[mask]
-        self.t[r, self.k[mask]] = t[mask]
-        self.k[mask] += 1
+        """Push (g, t) on the elements of ``mask`` (push_points)."""
+        push_points((self.g, self.t), (g, t), self.k, self.rows, mask)
 
     def depth_at(self, gamma, d):
         """The depth in use at strains ``gamma`` (ne, m) reached by a
