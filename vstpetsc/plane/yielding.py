@@ -73,12 +73,16 @@ class YieldingZone:
         G, K = mu[self.cell], lam[self.cell] + 2.0 * mu[self.cell] / 3.0
         self.law = PlaneMasing(G, params["gamma_ref"][where], params["beta"][where],
                                params["s"][where], K)
-        self.G, self.K = G, K
         self.motion = None
-        self.work = self.stored0 = 0.0           # the slab sums of v . F so far
+        self.work = 0.0                          # the slab sums of v . F so far
         self.strain_max = np.zeros(self.ncells)
         self._last = None
         self.frozen = None              # the points' decisions kept (None: the rules decide)
+
+    @property
+    def G(self):
+        """The points' small-strain shear moduli (the law's)."""
+        return self.law.backbone.G[:, 0]
 
     def evaluate(self, z):
         """The forces F (m, 2) at the zone's unknowns z (m, 2) (with the
@@ -153,22 +157,21 @@ class YieldingZone:
         points would give back unloading elastically beyond what the linear
         strain energy 1/2 u^T K u counts for them."""
         law, w = self.law, self.weight
-        s = law.dev
-        e = law.eps
+        G, K = self.G, law.K
+        s, e = law.dev, law.eps
         tr = e[:, 0] + e[:, 1]
-        p = law.sigma[:, 0] + law.sigma[:, 1] + law.sigma[:, 3]
-        p = p / 3.0
-        lam = self.K - 2.0 * self.G / 3.0
-        linear = 0.5 * (lam * tr * tr + 2.0 * self.G * (e[:, 0] ** 2 + e[:, 1] ** 2)
-                        + self.G * e[:, 2] ** 2)
-        return float(w @ ((s * s).sum(axis=1) / (4.0 * self.G) + p * p / (2.0 * self.K)
-                          - linear))
+        p = (law.sigma[:, 0] + law.sigma[:, 1] + law.sigma[:, 3]) / 3.0
+        lam = K - 2.0 * G / 3.0
+        linear = 0.5 * (lam * tr * tr + 2.0 * G * (e[:, 0] ** 2 + e[:, 1] ** 2)
+                        + G * e[:, 2] ** 2)
+        return float(w @ ((s * s).sum(axis=1) / (4.0 * G) + p * p / (2.0 * K) - linear))
 
     def energies(self):
         """(strain energy beyond the linear expression, hysteretic
-        dissipation) since t = 0."""
+        dissipation) since t = 0 (the points start unstrained: nothing
+        stored then)."""
         stored = self.stored_beyond_linear()
-        return stored, self.work - (stored - self.stored0)
+        return stored, self.work - stored
 
     def cell_stress(self):
         """(ne, 3) each cell's mean in-plane stress over its points (cells
