@@ -67,7 +67,7 @@ def run(path, out, *extra):
 def test_the_energy_balance_closes_with_yielding_and_sliding(tmp_path):
     with run(column(tmp_path), tmp_path / "r.h5") as f:
         energy = {k: f[f"energy/{k}"][...] for k in f["energy"]}
-        strain_max = f["field/strain_max"][...]
+        strain_max, when = f["field/strain_max"][...], f["field/strain_max_time"][...]
         slip = np.abs(f["interface/joint/slip"][...]).max()
     largest = max(np.abs(energy[k]).max() for k in ("kinetic", "strain", "external"))
     print(f"strain_max {strain_max.max() / MKZ['gamma_ref']:.3g} gamma_ref, slip {slip:.3g} m, "
@@ -78,6 +78,14 @@ def test_the_energy_balance_closes_with_yielding_and_sliding(tmp_path):
     p = run_cli("info", tmp_path / "r.h5")
     line = next(x for x in p.stdout.splitlines() if "largest shear strain" in x)
     assert f"{strain_max.max():.4g} in cell {int(strain_max.argmax())} at" in line
+    assert f"t = {when[strain_max.argmax()]:.6g}" in line
+    # the time each cell's envelope was reached: a run stopped half-way has
+    # the same envelope where it was reached by then, a smaller one elsewhere
+    with run(column(tmp_path, end=0.2), tmp_path / "half.h5") as f:
+        half = f["field/strain_max"][...]
+    early = when <= 0.2 + 1e-9
+    assert early.any() and (~early).any()
+    assert np.array_equal(half[early], strain_max[early]) and (half[~early] < strain_max[~early]).all()
     assert energy["hysteretic"][-1] > 0.05 * energy["external"][-1]
     # (a branch unloading gives back part of what it stored beyond tau^2 / 2G
     # alone: the loops' work is positive per loop, not at every slab)
@@ -188,3 +196,31 @@ def test_a_sweep_summary_has_the_strain_and_the_loops(tmp_path):
             assert float(row["hysteretic"]) == pytest.approx(r["energy/hysteretic"][-1],
                                                              rel=1e-12)
     assert float(rows[0]["strain_max"]) > float(rows[1]["strain_max"])   # softer yields more
+
+
+def test_strain_max_in_xdmf_and_plot(tmp_path):
+    """/field/strain_max and strain_max_time reach ParaView's reader (VTK's
+    vtkXdmfReader) bit for bit at every kept time, and `plot --color
+    strain_max` draws them; a linear run's file refuses that colour in one
+    line."""
+    from test_plane_outputs import vtk_arrays, vtk_reader
+
+    out = tmp_path / "r.h5"
+    run(column(tmp_path, end=0.1, interface=False), out).close()   # one grid collection
+    assert run_cli("export", out, "--xdmf").returncode == 0
+    reader = vtk_reader(tmp_path / "r.xdmf")
+    with h5py.File(out, "r") as f:
+        strain, when, t = (f[k][...] for k in ("field/strain_max", "field/strain_max_time",
+                                               "time"))
+    assert strain.max() > 0.0 and when.max() > 0.0
+    for row in (0, t.size - 1):
+        got = vtk_arrays(reader, t[row])
+        assert np.array_equal(got["strain_max"], strain)
+        assert np.array_equal(got["strain_max_time"], when)
+    p = run_cli("plot", out, "--color", "strain_max", "-o", tmp_path / "s.png")
+    assert p.returncode == 0 and (tmp_path / "s.png").stat().st_size > 10000, p.stderr
+    linear = tmp_path / "linear.h5"
+    run(column(tmp_path, end=0.02, law=None, interface=False), linear).close()
+    p = run_cli("plot", linear, "--color", "strain_max", "-o", tmp_path / "l.png")
+    assert p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1
+    assert "strain_max" in p.stderr and not (tmp_path / "l.png").exists()

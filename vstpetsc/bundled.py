@@ -5,6 +5,7 @@ block under it tells the physical story.
 """
 
 import os
+import re
 
 FOLDER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "examples")
 
@@ -28,10 +29,11 @@ def text(name):
 
 def companions(name):
     """Paths of the files a bundled case reads (``NAME-*.csv`` records and
-    ``NAME-*.msh`` meshes beside it)."""
-    path(name)
+    ``NAME-*.msh`` meshes beside it, and those of another example it names,
+    e.g. rockfill-dam-mkz reads rockfill-dam's mesh and records)."""
+    named = set(re.findall(r'"([\w.-]+\.(?:csv|msh))"', text(name)))
     return sorted(os.path.join(FOLDER, f) for f in os.listdir(FOLDER)
-                  if f.startswith(name + "-") and f.endswith((".csv", ".msh")))
+                  if f.endswith((".csv", ".msh")) and (f.startswith(name + "-") or f in named))
 
 
 def description(name):

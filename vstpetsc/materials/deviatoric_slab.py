@@ -157,13 +157,8 @@ class SlabPath:
     def __init__(self, law, D1, D2, motion=None, frozen=None):
         self.law, self.D1, self.D2 = law, D1, D2
         dD1, dD2 = dv.deviator(D1), dv.deviator(D2)
-        n0 = start_heading(law, motion)
-        # a point that never moved heads along its first rate (then it
-        # cannot reverse at the start); n0 then depends on D1
-        virgin = ~n0.any(axis=1)
-        self.virgin = virgin & dD1.any(axis=1)
-        n0[virgin] = unit(np.where(self.virgin[:, None], dD1, dD2))[virgin]
-        self.n0 = n0
+        self.n0, self.virgin = slab_heading(law, dD1, dD2, motion)
+        n0 = self.n0
         a, b = np.sum(n0 * dD1, axis=1), np.sum(n0 * dD2, axis=1)
         self.a, self.b = a, b
         self.frozen = frozen
@@ -177,14 +172,9 @@ class SlabPath:
         _, self.tangent_c, s_c, kc = evaluate(law, self.start, self.eps_c,
                                               None if frozen is None else frozen.kc)
         self.kc, self.depths = kc, [None, None]
-        self.second = self.start
-        if self.reverses.any():
-            self.second = self.start.copy()
-            self.second.k = np.where(self.reverses, kc[:, 0], self.start.k)
-            self.second.push(self.reverses, dv.deviator(self.eps_c[:, 0]), s_c[:, 0])
-        moved = [unit(d) for d in (dD2, dD1)]
-        self.motion = np.where(dD2.any(axis=1)[:, None], moved[0],
-                               np.where(dD1.any(axis=1)[:, None], moved[1], n0))
+        self.second = second_stack(self.start, self.reverses, kc[:, 0], self.eps_c[:, 0],
+                                   s_c[:, 0])
+        self.motion = slab_motion(dD1, dD2, n0)
 
     def _cut_and_flags(self, a, b, frozen):
         """turned, reverses, cut; ``inside``: where the cut moves with D
@@ -243,25 +233,64 @@ class SlabPath:
         out = ib[:, None, :, None] * np.eye(3)[None, :, None, :]
         return out + rate(self.D1, self.D2, c)[:, 0, :, None, None] * dcut[:, None]
 
-    def end(self):
-        """(strains (n, 3), stresses (n, 4), stress deviators (n, 3), stack,
-        motion (n, 3)) at the slab end: the next slab's start."""
-        law = self.law
-        eps1 = strain(law.eps, self.D1, self.D2, np.ones((self.D1.shape[0], 1)))
-        c1 = dv.deviator(eps1)
-        k = self.second.depth_at(c1)
-        dev, _ = self.second.stress(law.backbone, c1, k)
-        stack = self.second.copy() if self.second is law.stack else self.second
-        stack.k = k[:, 0]
-        sigma = dv.components(dev[:, 0], law.K * (eps1[:, 0, 0] + eps1[:, 0, 1]))
-        return eps1[:, 0], sigma, dev[:, 0], stack, self.motion.copy()
-
     def commit(self):
         """Make the slab end the law's state; the motion (n, 3) to pass to
         the next slab."""
-        law = self.law
-        law.eps, law.sigma, law.dev, law.stack, motion = self.end()
-        return motion
+        return commit_end(self.law, self.second, self.D1, self.D2, self.motion)
+
+
+def slab_heading(law, dD1, dD2, motion):
+    """(n0 (n, 3), virgin (n,)) of a slab with deviator increments dD1,
+    dD2: the slab start's heading, where the point never moved its first
+    rate's direction (dD1, else dD2; ``virgin`` where that was dD1: n0
+    then moves with D1, and a virgin point cannot reverse at its start)."""
+    n0 = start_heading(law, motion)
+    still = ~n0.any(axis=1)
+    virgin = still & dD1.any(axis=1)
+    n0[still] = unit(np.where(virgin[:, None], dD1, dD2))[still]
+    return n0, virgin
+
+
+def slab_motion(dD1, dD2, n0):
+    """The last motion's direction (n, 3) at the slab end: dD2's, else
+    dD1's, else n0."""
+    moved = [unit(d) for d in (dD2, dD1)]
+    return np.where(dD2.any(axis=1)[:, None], moved[0],
+                    np.where(dD1.any(axis=1)[:, None], moved[1], n0))
+
+
+def second_stack(start, reverses, kc, eps_c, s_c):
+    """The stack of the path's second piece: ``start`` at the turn point's
+    depth ``kc`` (n,) with the turn point (strain ``eps_c``, stress
+    deviator ``s_c``, (n, 3)) pushed where it ``reverses`` (``start``
+    itself where nothing does)."""
+    if not reverses.any():
+        return start
+    second = start.copy()
+    second.k = np.where(reverses, kc, start.k)
+    second.push(reverses, dv.deviator(eps_c), s_c)
+    return second
+
+
+def path_end(law, second, D1, D2):
+    """(strains (n, 3), stresses (n, 4), stress deviators (n, 3), stack)
+    at the slab end of the path whose second piece starts from ``second``:
+    the next slab's start."""
+    eps1 = strain(law.eps, D1, D2, np.ones((D1.shape[0], 1)))
+    c1 = dv.deviator(eps1)
+    k = second.depth_at(c1)
+    dev, _ = second.stress(law.backbone, c1, k)
+    stack = second.copy() if second is law.stack else second
+    stack.k = k[:, 0]
+    sigma = dv.components(dev[:, 0], law.K * (eps1[:, 0, 0] + eps1[:, 0, 1]))
+    return eps1[:, 0], sigma, dev[:, 0], stack
+
+
+def commit_end(law, second, D1, D2, motion):
+    """Make the slab end (path_end) ``law``'s state; the ``motion`` (n, 3)
+    to pass to the next slab (a copy)."""
+    law.eps, law.sigma, law.dev, law.stack = path_end(law, second, D1, D2)
+    return motion.copy()
 
 
 def slab_integrals(law, D1, D2, dt, motion=None, tangent=True, frozen=None):

@@ -64,10 +64,11 @@ def root_attrs():
 
 
 def envelope_snapshots(model, lo, hi):
-    """A yielding zone's /field/strain_max (rank 0), rewritten with every
-    block."""
+    """A yielding zone's /field/strain_max and strain_max_time (rank 0),
+    rewritten with every block."""
     zone = model.zone
-    return {} if zone is None else {field_path("strain_max"): zone.strain_max}
+    return {} if zone is None else {field_path("strain_max"): zone.strain_max,
+                                    field_path("strain_max_time"): zone.strain_time}
 
 
 def read_envelopes(f, model):

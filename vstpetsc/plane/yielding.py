@@ -76,8 +76,19 @@ class YieldingZone:
         self.motion = None
         self.work = 0.0                          # the slab sums of v . F so far
         self.strain_max = np.zeros(self.ncells)
+        self.strain_time = np.zeros(self.ncells)     # when each cell's strain_max was reached
+        self.slabs = 0                               # slabs committed since t = 0
         self._last = None
         self.frozen = None              # the points' decisions kept (None: the rules decide)
+        self.integrals = slab_integrals     # or the compiled twin (use_native)
+
+    def use_native(self, lib):
+        """Take the slab integrals from the compiled kernel of ``lib``
+        (vstpetsc.native.library(); None: keep the Python reference)."""
+        if lib is not None:
+            from vstpetsc.native.deviatoric import NativeSlabIntegrals
+
+            self.integrals = NativeSlabIntegrals(lib)
 
     @property
     def G(self):
@@ -89,7 +100,7 @@ class YieldingZone:
         ``frozen`` decisions, when set)."""
         D1 = self.dt * (self.S @ z[:, 0]).reshape(-1, 3)
         D2 = self.dt * (self.S @ z[:, 1]).reshape(-1, 3)
-        Q, dQ, path = slab_integrals(self.law, D1, D2, self.dt, self.motion,
+        Q, dQ, path = self.integrals(self.law, D1, D2, self.dt, self.motion,
                                      frozen=self.frozen)
         w = self.weight[:, None]
         F = np.column_stack([self.St @ (w * Q[:, a]).ravel() for a in range(2)])
@@ -99,14 +110,13 @@ class YieldingZone:
     def apply(self, dz):
         """The Jacobian's product with dz (m, 2): sum_b S^T (w dQ_ab) S dt dz_b."""
         path, F, z, dQ = self._last
-        strains = [self.dt * (self.S @ dz[:, b]).reshape(-1, 3) for b in range(2)]
-        w = self.weight[:, None]
-        out = []
-        for a in range(2):
-            stress = sum((dQ[:, a, :, b, :] @ strains[b][:, :, None])[:, :, 0]
-                         for b in range(2))
-            out.append(self.St @ (w * stress).ravel())
-        return np.column_stack(out)
+        n = self.weight.size
+        # strains of both time nodes side by side (n, 6) against dQ as
+        # (n, 6, 6) blocks: one batched product
+        strains = self.dt * (self.S @ dz).reshape(n, 3, 2).transpose(0, 2, 1).reshape(n, 6)
+        stress = (dQ.reshape(n, 6, 6) @ strains[:, :, None])[:, :, 0].reshape(n, 2, 3)
+        stress *= self.weight[:, None, None]
+        return self.St @ stress.transpose(0, 2, 1).reshape(-1, 2)
 
     def decisions(self):
         """The last evaluation's Decisions (deviatoric_slab)."""
@@ -118,39 +128,48 @@ class YieldingZone:
         path, F, z, _ = self._last
         self.work += float((F * z).sum())
         self.motion = path.commit()
-        self._envelope(self.law.eps)
+        self.slabs += 1
+        self._envelope(self.law.eps, self.slabs * self.dt)
 
     def snapshot(self):
         """The zone's state as one flat array (its shape fixed for the run:
         a restart's dataset is made before the file's SWMR mode): the loops'
-        work, whether a motion is known, the points' strain, stress,
-        deviator, reversal stack and last motion, the cells' strain_max."""
+        work, whether a motion is known, the slabs done, the points' strain,
+        stress, deviator, reversal stack and last motion, the cells'
+        strain_max and its time."""
         law, n = self.law, self.weight.size
         motion = np.zeros((n, 3)) if self.motion is None else self.motion
-        return np.concatenate([[self.work, float(self.motion is not None)],
+        return np.concatenate([[self.work, float(self.motion is not None), float(self.slabs)],
                                law.eps.ravel(), law.sigma.ravel(), law.dev.ravel(),
                                law.stack.c.ravel(), law.stack.s.ravel(),
-                               law.stack.k.astype(float), motion.ravel(), self.strain_max])
+                               law.stack.k.astype(float), motion.ravel(), self.strain_max,
+                               self.strain_time])
 
     def restore(self, flat):
         """Continue from a snapshot (bit for bit)."""
         law, n = self.law, self.weight.size
         depth = law.stack.c.shape[1]
-        sizes = [3 * n, 4 * n, 3 * n, 3 * depth * n, 3 * depth * n, n, 3 * n, self.ncells]
-        if flat.size != 2 + sum(sizes):
+        sizes = [3 * n, 4 * n, 3 * n, 3 * depth * n, 3 * depth * n, n, 3 * n, self.ncells,
+                 self.ncells]
+        if flat.size != 3 + sum(sizes):
             raise InputError(f"--restart: the file's yielding zone state has {flat.size} "
-                             f"values, this case's zone {2 + sum(sizes)}: not the same case")
-        parts = np.split(np.asarray(flat, dtype=float)[2:], np.cumsum(sizes)[:-1])
-        self.work = float(flat[0])
+                             f"values, this case's zone {3 + sum(sizes)}: not the same case")
+        parts = np.split(np.asarray(flat, dtype=float)[3:], np.cumsum(sizes)[:-1])
+        self.work, self.slabs = float(flat[0]), int(flat[2])
         law.eps, law.sigma, law.dev = (parts[0].reshape(n, 3), parts[1].reshape(n, 4),
                                        parts[2].reshape(n, 3))
         law.stack.c, law.stack.s = parts[3].reshape(n, depth, 3), parts[4].reshape(n, depth, 3)
         law.stack.k = parts[5].astype(np.int64)
         self.motion = parts[6].reshape(n, 3) if flat[1] else None
-        self.strain_max = parts[7].copy()
+        self.strain_max, self.strain_time = parts[7].copy(), parts[8].copy()
 
-    def _envelope(self, eps):
-        np.maximum.at(self.strain_max, self.cell, equivalent_strain(eps))
+    def _envelope(self, eps, t):
+        """strain_max and strain_time with the points' strains ``eps`` at
+        time ``t``."""
+        now = np.zeros(self.ncells)
+        np.maximum.at(now, self.cell, equivalent_strain(eps))
+        grew = now > self.strain_max
+        self.strain_max[grew], self.strain_time[grew] = now[grew], t
 
     def stored_beyond_linear(self):
         """sum w (s:s / 4G + p^2 / 2K - 1/2 eps C_el eps): the energy the

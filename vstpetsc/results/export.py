@@ -33,7 +33,9 @@ quadrilaterals) or its first three columns (all triangles) by reference,
 or, for a mix, a Mixed topology written inline (the one copy: the two
 kinds interleave in the file); ``region`` (cells) is /mesh/region; u, v
 (nodes, 2 components) and stress (cells, 3 components: sigma_xx,
-sigma_yy, sigma_xy) of each kept time are hyperslabs of /field.
+sigma_yy, sigma_xy) of each kept time are hyperslabs of /field; a
+yielding run's strain_max and strain_max_time (cells, over the run) are
+attributes of the first grid, shared like region.
 tests/test_plane_outputs.py opens it with VTK's vtkXdmfReader (ParaView's
 XDMF reader) and finds the datasets bit for bit.  Each interface adds a
 temporal collection ``interface-<name>``: a Polyvertex cell per node pair
@@ -56,6 +58,7 @@ KEPT_GROUPS = ("energy", "solver")
 SHEAR_GROUP = "shear"       # /body/<name>/shear: the shear component's datasets
 PLANE_GRID = "mesh"         # the name of a plane-strain result's temporal collection
 PLANE_FIELDS = (("u", "Node"), ("v", "Node"), ("stress", "Cell"))
+ENVELOPES = ("strain_max", "strain_max_time")
 # an interface's series in its XDMF grid (stretch, a law's inner state, stays in the file)
 INTERFACE_FIELDS = ("gap", "normal_force", "shear_force", "slip")
 XDMF_TRIANGLE, XDMF_QUADRILATERAL = 4, 5     # XDMF's codes of cells in a Mixed topology
@@ -244,8 +247,15 @@ def _plane_grids(result, h5):
     times = result.time
     shapes = {"Node": (times.size, nn, 2), "Cell": (times.size, ne, 3)}
     first = f"{PLANE_GRID}-0"
+    once = ["region"]
+    for name in ENVELOPES:               # a yielding run's envelopes over the run
+        if plane_layout.field_path(name) in result:
+            mesh += (f'<Attribute Name="{name}" AttributeType="Scalar" Center="Cell">'
+                     f'{_hdf(h5, plane_layout.field_path(name), (ne,))}</Attribute>')
+            once.append(name)
+    named = " or ".join(f"@Name='{name}'" for name in once)
     shared = (f'<xi:include xpointer="xpointer(//Grid[@Name=\'{first}\']/*[self::Topology or '
-              'self::Geometry or self::Attribute[@Name=\'region\']])"/>')
+              f'self::Geometry or self::Attribute[{named}]])"/>')
     return _temporal(PLANE_GRID, times, mesh, shared, lambda i: [
         f'<Attribute Name="{name}" AttributeType="Vector" Center="{center}">'
         + _slab(h5, plane_layout.field_path(name), i, shapes[center]) + "</Attribute>"

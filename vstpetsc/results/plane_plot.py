@@ -13,9 +13,11 @@ from vstpetsc.results import plane_layout
 MAGNIFIED = 0.05        # the largest displacement is drawn as this part of the mesh's size
 EDGES_UP_TO = 5000      # cell edges drawn up to this many cells: beyond they blacken the mesh
 MAX_TIMES = 6           # mesh panels at most (the figure's width is fixed)
-# what the mesh panels may be coloured by: the speed at the nodes, or a
-# stress component at the cells' centres (its column in /field/stress)
-COLOURS = {"speed": None, "sxx": 0, "syy": 1, "sxy": 2}
+# what the mesh panels may be coloured by: the speed at the nodes, a
+# stress component at the cells' centres (its column in /field/stress), or
+# a yielding run's largest equivalent shear strain per cell (an envelope
+# over the run: the same in every panel)
+COLOURS = {"speed": None, "sxx": 0, "syy": 1, "sxy": 2, "strain_max": "strain_max"}
 STRESS_NAMES = {"sxx": "sigma_xx", "syy": "sigma_yy", "sxy": "sigma_xy"}
 
 
@@ -103,6 +105,13 @@ def panel_values(r, rows, colour):
     if COLOURS[colour] is None:
         values = speed(r.read(plane_layout.field_path("v"), np.s_[rows]))
         return values, (0.0, float(np.nanmax(values, initial=0.0)) or 1.0), "speed |v|"
+    if colour == "strain_max":
+        if plane_layout.field_path("strain_max") not in r:
+            raise InputError("color strain_max: the result has no yielding region "
+                             "(/field/strain_max)")
+        strain = r.read(plane_layout.field_path("strain_max"))
+        return ([strain] * len(rows), (0.0, float(strain.max(initial=0.0)) or 1.0),
+                "largest shear strain over the run")
     values = r.read(plane_layout.field_path("stress"), np.s_[rows])[..., COLOURS[colour]]
     top = float(np.nanmax(np.abs(values), initial=0.0)) or 1.0
     return values, (-top, top), STRESS_NAMES[colour]
@@ -137,7 +146,7 @@ def mesh_panels(fig, spec, r, rows, colour, u):
         ax.set_title(f"(a{k + 1}) {label} at t = {r.time[row]:.6g} {u['time']}", fontsize=10)
         ax.set_xlabel(f"x [{u['length']}]")
     axes[0].set_ylabel(f"y [{u['length']}]")
-    unit = u["velocity"] if colour == "speed" else "Pa"
+    unit = {"speed": u["velocity"], "strain_max": "-"}.get(colour, "Pa")
     fig.colorbar(shade, ax=axes, label=f"{label} [{unit}]")
     return factor
 

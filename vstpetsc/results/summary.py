@@ -196,14 +196,18 @@ def plane_summary(result):
 
 def largest_strain(result, centre):
     """A yielding run's largest equivalent shear strain over the run
-    (/field/strain_max: its cell's centre); None without one."""
+    (/field/strain_max: its cell, the cell's centre, the time it was
+    reached from /field/strain_max_time, NaN in a file without it); None
+    without one."""
     if "field/strain_max" not in result:
         return None
     strain = result.read("field/strain_max")
     if not strain.size:
         return None
     k = int(strain.argmax())
-    return float(strain[k]), k, *map(float, centre[k])
+    when = float(result.read("field/strain_max_time")[k]) \
+        if "field/strain_max_time" in result else float("nan")
+    return float(strain[k]), k, *map(float, centre[k]), when
 
 
 def interface_summary(result, name):
@@ -360,9 +364,9 @@ def plane_lines(p):
     for name, (value, x, y, t) in zip(("sigma_xx", "sigma_yy", "sigma_xy"), p["stress"]):
         lines.append(f"    largest |{name}| {value:.6g} at ({x:.6g}, {y:.6g}), t = {t:.6g}")
     if p.get("strain") is not None:
-        value, cell, x, y = p["strain"]
+        value, cell, x, y, t = p["strain"]
         lines.append(f"    largest shear strain 2 sqrt(J2) {value:.4g} in cell {cell} at "
-                     f"({x:.6g}, {y:.6g}) (yielding regions, over the run)")
+                     f"({x:.6g}, {y:.6g}), t = {t:.6g} (yielding regions, over the run)")
     for i in p.get("interfaces", ()):
         lines.append(f"  interface {i['name']}: {i['pairs']} node pairs, length {i['length']:.6g}")
         if i["slip"] is None:

@@ -36,6 +36,7 @@ MAX_IT = 60
 FULL_STEPS = 12
 HALVINGS = 20
 ROUNDS = 8          # a yielding zone's decision sets tried in one slab
+ROUND_IT = 8        # iterations a later set gets before the last converged one is taken
 FREEZE_AFTER = 5    # a zone's decisions are kept from this iteration on (before: the rules decide)
 
 
@@ -114,7 +115,10 @@ class FrozenDecisions:
     continues from there with the new decisions when any point's changed
     (an active-set loop).  A point whose decisions changed LOCK times in
     the slab keeps its last (newton_terms.ZoneTerm.settle); after ROUNDS
-    sets the last converged state is taken with its decisions.
+    sets the last converged state is taken with its decisions, and so when
+    a later set does not converge within ROUND_IT iterations (decisions
+    taken from one state need not admit a solution near it: a 1e4-cell
+    rockfill dam far beyond gamma_ref stalled so, bench/plane_yielding.py).
     ``self.undecided`` counts the points whose rules' decisions disagreed
     with the accepted ones, over the run."""
 
@@ -140,6 +144,8 @@ class FrozenDecisions:
         if moved == 0 and held == 0:
             return True, fresh
         self.rounds += moved > 0
+        if moved and self.rounds < ROUNDS:
+            self.fallback = (x.copy(), kept, moved + held)
         if moved and self.rounds >= ROUNDS:
             for zone, k in zip(zones, kept):         # take the state converged with ``kept``
                 zone.restore(k)
@@ -148,6 +154,16 @@ class FrozenDecisions:
         if moved == 0:
             self.undecided += held
         return moved == 0, norm
+
+    def _fall_back(self, b, x):
+        """Take the last converged state with the decisions it converged
+        with (its points the rules disagree with counted as held)."""
+        converged, kept, disagree = self.fallback
+        converged.copy(x)
+        for zone, k in zip(self._zones(), kept):
+            zone.restore(k)
+        self._residual(b, x, self.R)
+        self.undecided += disagree
 
 
 class ContactNewton(FrozenDecisions, HeldWork):
@@ -205,6 +221,9 @@ class ContactNewton(FrozenDecisions, HeldWork):
                     return it, self.krylov
                 start = it
                 continue
+            if self.rounds and it - start >= ROUND_IT:
+                self._fall_back(b, x)
+                return it, self.krylov
             if it == MAX_IT:
                 break
             self._step()

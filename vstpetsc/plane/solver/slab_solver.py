@@ -19,6 +19,7 @@ from petsc4py import PETSc
 
 from vstpetsc.spacetime import slab
 from vstpetsc.errors import SolveFailed
+from vstpetsc.native import library
 from vstpetsc.petsc.ranks import Ranks
 from vstpetsc.plane.assembly import identity_rows
 from vstpetsc.plane.solver.matrices import petsc_matrix
@@ -76,6 +77,8 @@ class PlaneSolver:
         self.restart = PlaneRestart(self)
         self.to_rank0 = gather_to_rank0(model, comm)
         self.pairs, self.zone = model.pairs, model.zone
+        if hasattr(self.zone, "use_native") and PETSc.Options().getBool("vst_native", True):
+            self.zone.use_native(library())
         self.newton = None if self.pairs is None and self.zone is None else \
             slab_newton(self, comm)
 
