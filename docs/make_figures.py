@@ -507,6 +507,100 @@ def _rockfill_dam(f, result):
             "![rockfill-dam interfaces](figures/rockfill-dam-interfaces.png)")
 
 
+def _variant(name, drop, folder):
+    """The bundled example ``name`` without the lines starting with the
+    keys ``drop``, run in ``folder`` beside its companions: its Result."""
+    import shutil
+
+    text = "\n".join(l for l in bundled.text(name).splitlines()
+                     if not l.startswith(tuple(drop)))
+    for companion in bundled.companions(name):
+        shutil.copy(companion, folder)
+    path = os.path.join(folder, f"{name}-{'-'.join(drop)}.toml")
+    with open(path, "w") as f:
+        f.write(text)
+    return vstpetsc.run(vstpetsc.Case.from_toml(path), path[:-5] + ".h5", quiet=True,
+                        out=io.StringIO())
+
+
+def _strain_panel(ax, result):
+    """The largest equivalent shear strain of each cell over the run (%)
+    on the undeformed section, the dam only."""
+    from matplotlib.collections import PolyCollection
+    from vstpetsc.results.plane_plot import outlines
+
+    mesh = result.mesh
+    xy = mesh.coordinates[outlines(mesh.cells)]
+    strain = 1e2 * result.read("field/strain_max")
+    dam = strain > 0
+    shade = PolyCollection(xy[dam], array=strain[dam], cmap="magma_r", edgecolors="none")
+    ax.add_collection(shade)
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.figure.colorbar(shade, ax=ax, label="largest 2 sqrt(J2) [%]", shrink=0.8)
+    ax.set_title("(a) the largest shear strain of each cell over the run", fontsize=10)
+
+
+def _rockfill_dam_mkz(f, result):
+    """Key numbers and the figure of rockfill-dam-mkz: the largest strain
+    over the section, the crest's spectrum against the linear dam's and the
+    unconfined yielding dam's, the joints' slip, the energy."""
+    import matplotlib.pyplot as plt
+
+    with tempfile.TemporaryDirectory() as folder:
+        others = {"linear (rockfill-dam)": _variant("rockfill-dam-mkz",
+                                                    ("shear_law", "confinement"), folder),
+                  "yielding, unconfined": _variant("rockfill-dam-mkz", ("confinement",), folder)}
+        fig, ((strain, spectra), (slip, energy)) = plt.subplots(2, 2, figsize=(12, 8),
+                                                                constrained_layout=True)
+        _strain_panel(strain, result)
+        peaks = {"yielding, confined": _crest_spectrum(spectra, result, "yielding, confined")}
+        for label, other in others.items():
+            peaks[label] = _crest_spectrum(spectra, other, label)
+        spectra.set_title("(b) the crest's horizontal acceleration spectrum", fontsize=10)
+        spectra.legend(fontsize=8)
+        t = result.time
+        for k, face in enumerate(result.interfaces):
+            slip.plot(t, 1e3 * np.abs(result.interface(face).slip[:]).max(axis=1),
+                      color=f"C{k}", label=f"{face}, yielding")
+            linear = others["linear (rockfill-dam)"]
+            slip.plot(linear.time, 1e3 * np.abs(linear.interface(face).slip[:]).max(axis=1),
+                      ":", color=f"C{k}", label=f"{face}, linear")
+        slip.set_xlabel("t [s]")
+        slip.set_ylabel("largest |slip| [mm]")
+        slip.set_title("(c) the joints' slip", fontsize=10)
+        slip.legend(fontsize=7)
+        e = result.energy
+        for key in ("kinetic", "strain", "damping", "friction", "hysteretic", "numerical"):
+            energy.plot(t, e[key] / 1e3, label=key)
+        energy.set_xlabel("t [s]")
+        energy.set_ylabel("kJ per m")
+        energy.set_title("(d) the energy", fontsize=10)
+        energy.legend(fontsize=8)
+        fig.savefig(os.path.join(HERE, "figures", "rockfill-dam-mkz-response.png"), dpi=110)
+        plt.close(fig)
+        crest = {label: float(np.abs(acceleration_of(r)).max()) / 9.81
+                 for label, r in [("yielding, confined", result)] + list(others.items())}
+    strain_max = result.read("field/strain_max")
+    k = int(strain_max.argmax())
+    slips = ", ".join(f"{face} {1e3 * np.abs(result.interface(face).slip[:]).max():.1f} mm"
+                      for face in result.interfaces)
+    return (f"largest shear strain {1e2 * strain_max[k]:.3g} % (cell {k}, t = "
+            f"{result.read('field/strain_max_time')[k]:.3g} s); crest's peak horizontal "
+            "acceleration " + ", ".join(f"{label} {a:.2f} g" for label, a in crest.items())
+            + f"; largest slip: {slips}; hysteretic {f['energy/hysteretic'][-1] / 1e3:.1f}, "
+            f"friction {f['energy/friction'][-1] / 1e3:.1f} kJ per m\n\n"
+            "![rockfill-dam-mkz response](figures/rockfill-dam-mkz-response.png)")
+
+
+def acceleration_of(result):
+    """The crest gauge's horizontal acceleration (slab by slab)."""
+    from vstpetsc.results.spectrum import acceleration
+
+    gauge = result.gauge("crest")
+    return acceleration(gauge.v[:, 0], gauge.dt)
+
+
 KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "periodic-impacts": _periodic, "layered": _layered, "wave": _wave,
        "site-response": _site, "uplift": _uplift, "drop": _drop, "pile": _pile,
@@ -514,8 +608,8 @@ KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "dam-interface": _dam_interface, "nonlinear-site": _nonlinear_site,
        "rockfill-column": _rockfill_column, "plane-column": _plane_column,
        "dam-modes": _dam_modes, "lamb": _lamb, "gravity-dam": _gravity_dam,
-       "rockfill-dam": _rockfill_dam}
-NEEDS_RESULT = {"nonlinear-site", "site-response", "uplift", "drop", "pile", "bouncing-bar",
+       "rockfill-dam": _rockfill_dam, "rockfill-dam-mkz": _rockfill_dam_mkz}
+NEEDS_RESULT = {"rockfill-dam-mkz", "nonlinear-site", "site-response", "uplift", "drop", "pile", "bouncing-bar",
                 "sliding-block", "dam-interface", "rockfill-column", "plane-column",
                 "dam-modes", "lamb", "gravity-dam", "rockfill-dam"}
 
