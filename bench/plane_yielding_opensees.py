@@ -112,9 +112,9 @@ TABLE_DT, END = 1.0e-3, 3.0
 SAMPLE = 0.02                     # the error's sample interval; every dt divides it
 # PIMY's backbone: SURFACES pairs log-spaced in [GAMMA_LO, GAMMA_HI]
 SURFACES, GAMMA_LO, GAMMA_HI = 39, 1.0e-3 * GAMMA_REF, 100.0 * GAMMA_REF
-# NormDispIncr's tolerance (m): 1e-10 gave the same errors to 3e-6 of
-# themselves and took 1.4 times as long (the chosen runs are checked again
-# at OS_TIGHT: "tolerance_check" in the results)
+# NormDispIncr's tolerance (m): the chosen runs again at OS_TIGHT change
+# their errors by 2e-4 of themselves at most and take 1.5 to 1.9 times as
+# long (one run each; "tolerance_check" in the results, a README line)
 OS_TOLERANCE, OS_TIGHT, OS_ITERATIONS = 1.0e-6, 1.0e-10, 50
 OS_SYSTEMS = ("BandGen", "ProfileSPD", "UmfPack", "SuperLU")
 LADDER = (1, 2, 3, 4, 6, 8, 12, 16, 24, 32)            # steps per SAMPLE
@@ -543,14 +543,30 @@ def section(res):
              f"{FLOOR_MARGIN:g} x the floor are not compared."
              + (f" Linear harness check (both codes without their laws, fine dt): "
                 + ", ".join(f"{k} {v:.1e}" for k, v in lin["differences"].items()) + "."
-                if lin else ""),
+                if lin else "") + tolerance_line(res["tolerance_check"]),
              "", "Cheapest run (fewest steps) reaching each target, timed again interleaved "
              f"({QUICK_REPEATS if res['quick'] else REPEATS} times), min / median of the whole "
              "solve, each code in its own process:", "",
              "| target | code | dt [ms] | steps | error | time [s] min / median "
              "| vstpetsc / OpenSees (min, median) |", "|---|---|---|---|---|---|---|"]
     lines += [table_row(row, res["table"]) for row in res["table"]]
+    failed = [f"{kind} at dt {r['dt'] * 1e3:.4g} ms" for kind, rows in res["runs"].items()
+              for r in rows if r["error"] is None]
+    lines += ["", f"The coarsest dt tried is {SAMPLE * 1e3:g} ms (Vs dt / h = "
+              f"{VS * SAMPLE * CELLS / HEIGHT:g}, the error's sample interval): a code "
+              "whose run there is well within a target might reach it with a coarser one."
+              + (f" Failed (analyze returned an error): {', '.join(failed)}." if failed else "")]
     return "\n".join(lines) + "\n"
+
+
+def tolerance_line(check):
+    """How much OpenSees' chosen runs change at NormDispIncr OS_TIGHT."""
+    if not check:
+        return ""
+    change = max(abs(c["error"] / c["error_at_default"] - 1) for c in check.values())
+    seconds = ", ".join(f"{c['seconds']:.2f}" for c in check.values())
+    return (f" OpenSees' chosen runs again at NormDispIncr {OS_TIGHT:g}: errors within "
+            f"{change:.1e} of themselves, in {seconds} s (one run each).")
 
 
 def table_row(row, table):
