@@ -253,6 +253,68 @@ static void turn_strain_derivative(const DeviatoricSlab *m, long p, double cut,
     }
 }
 
+/* the sums of one Gauss point of piece j: Q, dQ (the branch's tangent),
+ * the new branch's jump term; its c and dc kept for the cut terms */
+typedef struct {
+    double Q[2][3], dQ[2][3][2][3], jump[2][3][3];
+    double theta[GP], c[GP][3], dc[GP][3][3];
+} Sums;
+
+static void gauss_point(const DeviatoricSlab *m, long p, const Law *L, const Path *P, int j,
+                        int g, double C[3][3], int tangent, Sums *S)
+{
+    const Stack *st = j == 0 ? &P->start : &P->second;
+    double e[3], sigma[3], tan[3][3], sdev[3], cd[3];
+    double th = j == 0 ? P->cut * m->xg[g] : P->cut + (1.0 - P->cut) * m->xg[g];
+    double w = (j == 0 ? P->cut : 1.0 - P->cut) * m->wg[g];
+    S->theta[g] = th;
+    strain(m->eps + 3 * p, m->D1 + 3 * p, m->D2 + 3 * p, th, e);
+    long k = m->fturned != NULL ? m->fk[(2 * p + j) * GP + g] : depth_at(st, (deviator(e, cd), cd));
+    m->kk[(2 * p + j) * GP + g] = k;
+    evaluate(L, st, e, k, sigma, tan, sdev);
+    double T[2] = {1.0 - th, th}, ib[2] = {th - 0.5 * th * th, 0.5 * th * th};
+    for (int i = 0; i < 3; i++) {
+        S->c[g][i] = sigma[i] - (C[i][0] * e[0] + C[i][1] * e[1] + C[i][2] * e[2]);
+        for (int l = 0; l < 3; l++)
+            S->dc[g][i][l] = tan[i][l] - C[i][l];
+    }
+    int on = j == 1 && P->reverses && k == P->second.k;
+    for (int a = 0; a < 2; a++) {
+        double wT = w * T[a];
+        for (int i = 0; i < 3; i++) {
+            S->Q[a][i] += wT * S->c[g][i];
+            if (!tangent)
+                continue;
+            for (int l = 0; l < 3; l++) {
+                for (int b = 0; b < 2; b++)
+                    S->dQ[a][i][b][l] += wT * (S->dc[g][i][l] * ib[b]);
+                if (on)
+                    S->jump[a][i][l] += wT * (P->tangent_c[i][l] - tan[i][l]);
+            }
+        }
+    }
+}
+
+/* after piece j: the new branch's jump term through d e* / d D, the cut terms */
+static void piece_terms(const DeviatoricSlab *m, long p, const Path *P, int j,
+                        double dec[3][2][3], Sums *S, double dsum[2][3])
+{
+    if (j == 1 && P->reverses)
+        for (int a = 0; a < 2; a++)
+            for (int i = 0; i < 3; i++)
+                for (int b = 0; b < 2; b++)
+                    for (int l = 0; l < 3; l++)
+                        S->dQ[a][i][b][l] += S->jump[a][i][0] * dec[0][b][l]
+                            + S->jump[a][i][1] * dec[1][b][l] + S->jump[a][i][2] * dec[2][b][l];
+    if (P->inside) {
+        double part[2][3];
+        cut_terms(m, p, j, P->cut, S->theta, S->c, S->dc, part);
+        for (int a = 0; a < 2; a++)
+            for (int i = 0; i < 3; i++)
+                dsum[a][i] += part[a][i];
+    }
+}
+
 static void point(const DeviatoricSlab *m, long p, double *buf)
 {
     Law L = {m->G[p], m->gref[p], m->beta[p], m->s[p], m->K[p]};
@@ -260,80 +322,37 @@ static void point(const DeviatoricSlab *m, long p, double *buf)
     path_of(m, p, &L, &P, buf);
     double lam = L.K - 2.0 * L.G / 3.0;
     double C[3][3] = {{lam + 2.0 * L.G, lam, 0.0}, {lam, lam + 2.0 * L.G, 0.0}, {0.0, 0.0, L.G}};
-    double Q[2][3] = {{0.0}}, dQ[2][3][2][3], dsum[2][3] = {{0.0}};
-    double dcut[2][3] = {{0.0}}, dec[3][2][3] = {{{0.0}}};
+    double dsum[2][3] = {{0.0}}, dcut[2][3] = {{0.0}}, dec[3][2][3] = {{{0.0}}};
     double *dQout = m->dQ == NULL ? NULL : m->dQ + 36 * p;
-    memset(dQ, 0, sizeof dQ);
-    if (dQout != NULL && P.inside)
+    int tangent = dQout != NULL;
+    Sums S;
+    memset(S.Q, 0, sizeof S.Q);
+    memset(S.dQ, 0, sizeof S.dQ);
+    if (tangent && P.inside)
         cut_derivative(m, p, P.a, P.b, dcut);
-    if (dQout != NULL && P.reverses)
+    if (tangent && P.reverses)
         turn_strain_derivative(m, p, P.cut, dcut, dec);
     for (int j = 0; j < 2; j++) {
-        const Stack *st = j == 0 ? &P.start : &P.second;
-        double theta[GP], c[GP][3], dc[GP][3][3], jump[2][3][3] = {{{0.0}}};
-        for (int g = 0; g < GP; g++) {
-            double w, e[3], sigma[3], tan[3][3], sdev[3], cd[3];
-            theta[g] = j == 0 ? P.cut * m->xg[g] : P.cut + (1.0 - P.cut) * m->xg[g];
-            w = (j == 0 ? P.cut : 1.0 - P.cut) * m->wg[g];
-            strain(m->eps + 3 * p, m->D1 + 3 * p, m->D2 + 3 * p, theta[g], e);
-            long k = m->fturned != NULL ? m->fk[(2 * p + j) * GP + g]
-                                        : depth_at(st, (deviator(e, cd), cd));
-            m->kk[(2 * p + j) * GP + g] = k;
-            evaluate(&L, st, e, k, sigma, tan, sdev);
-            double T[2] = {1.0 - theta[g], theta[g]};
-            double ib[2] = {theta[g] - 0.5 * theta[g] * theta[g], 0.5 * theta[g] * theta[g]};
-            for (int i = 0; i < 3; i++) {
-                c[g][i] = sigma[i] - (C[i][0] * e[0] + C[i][1] * e[1] + C[i][2] * e[2]);
-                for (int l = 0; l < 3; l++)
-                    dc[g][i][l] = tan[i][l] - C[i][l];
-            }
-            int on = j == 1 && P.reverses && k == P.second.k;
-            for (int a = 0; a < 2; a++) {
-                double wT = w * T[a];
-                for (int i = 0; i < 3; i++) {
-                    Q[a][i] += wT * c[g][i];
-                    if (dQout == NULL)
-                        continue;
-                    for (int l = 0; l < 3; l++) {
-                        for (int b = 0; b < 2; b++)
-                            dQ[a][i][b][l] += wT * (dc[g][i][l] * ib[b]);
-                        if (on)
-                            jump[a][i][l] += wT * (P.tangent_c[i][l] - tan[i][l]);
-                    }
-                }
-            }
-        }
-        if (dQout == NULL)
-            continue;
-        if (j == 1 && P.reverses)
-            for (int a = 0; a < 2; a++)
-                for (int i = 0; i < 3; i++)
-                    for (int b = 0; b < 2; b++)
-                        for (int l = 0; l < 3; l++)
-                            dQ[a][i][b][l] += jump[a][i][0] * dec[0][b][l]
-                                + jump[a][i][1] * dec[1][b][l] + jump[a][i][2] * dec[2][b][l];
-        if (P.inside) {
-            double part[2][3];
-            cut_terms(m, p, j, P.cut, theta, c, dc, part);
-            for (int a = 0; a < 2; a++)
-                for (int i = 0; i < 3; i++)
-                    dsum[a][i] += part[a][i];
-        }
+        memset(S.jump, 0, sizeof S.jump);
+        for (int g = 0; g < GP; g++)
+            gauss_point(m, p, &L, &P, j, g, C, tangent, &S);
+        if (tangent)
+            piece_terms(m, p, &P, j, dec, &S, dsum);
     }
     for (int a = 0; a < 2; a++)
         for (int i = 0; i < 3; i++)
-            m->Q[6 * p + 3 * a + i] = Q[a][i] * m->dt;
+            m->Q[6 * p + 3 * a + i] = S.Q[a][i] * m->dt;
     m->turned[p] = (unsigned char)P.turned;
     m->reverses[p] = (unsigned char)P.reverses;
     m->cut[p] = P.cut;
     m->kc[p] = P.kc;
-    if (dQout == NULL)
+    if (!tangent)
         return;
     for (int a = 0; a < 2; a++)
         for (int i = 0; i < 3; i++)
             for (int b = 0; b < 2; b++)
                 for (int l = 0; l < 3; l++) {
-                    double v = dQ[a][i][b][l];
+                    double v = S.dQ[a][i][b][l];
                     if (P.inside)
                         v += dsum[a][i] * dcut[b][l];
                     dQout[18 * a + 6 * i + 3 * b + l] = v * m->dt;
