@@ -21,6 +21,8 @@ def series(model):
     for record in model.recorded:
         m = record.info.pairs.stop - record.info.pairs.start
         out += [(f"{record.group}/{key}", (m,)) for key in PAIR_SERIES]
+    for water in model.waters:
+        out += [(f"{water.group}/pressure", water.nodes.shape), (f"{water.group}/force", (2,))]
     return out + [(name, ()) for name in ENERGY + SOLVER]
 
 
@@ -33,6 +35,7 @@ def statics(model):
         out.update({f"{record.group}/nodes": p.nodes[s], f"{record.group}/normal": p.normal[s],
                     f"{record.group}/tangent": p.tangent[s],
                     f"{record.group}/length": p.length[s]})
+    out.update({f"{water.group}/nodes": water.nodes for water in model.waters})
     return out
 
 
@@ -99,12 +102,23 @@ class RowFiller:
         for record in self.model.recorded:
             for key, value in record.values().items():
                 buffers[f"{record.group}/{key}"][i] = value
+        self._water(buffers, i, k)
         mat = self.model.cell_materials
         stress = buffers[field_path("stress")][i]
         stress[...] = centre_stress(self.model.mesh, np.ravel(u), mat["lam"], mat["mu"])
         zone = self.model.zone
         if zone is not None:         # a yielding cell's own: its points' mean
             stress[zone.cells] = zone.cell_stress()[zone.cells]
+
+    def _water(self, buffers, i, k):
+        """The water's pressure and resultant at t = k dt (g(t) times
+        their patterns per unit g: the loads the slabs carry)."""
+        if not self.model.waters:
+            return
+        g = float(self.model.case.gravity.g(np.array([k * self.dt]))[0])
+        for water in self.model.waters:
+            for key, value in water.values(g).items():
+                buffers[f"{water.group}/{key}"][i] = value
 
     def row(self, k, u, v, its, wall, energy, d=None):
         out = {name: np.zeros((1,) + tail) for name, tail in self.series}

@@ -52,13 +52,34 @@ def unit_gravity(M):
 
 
 def gravity_pattern(model):
-    """unit_gravity of this rank's rows of the model's M."""
-    return unit_gravity(model.matrices()[0])
+    """The nodal pattern per unit g of this rank's owned dofs: the weight
+    (unit_gravity of its rows of the model's M) and the water's pressure
+    (vstpetsc.plane.water), which follows g as the weight does."""
+    from vstpetsc.plane.water import owned_pattern
+
+    pattern = unit_gravity(model.matrices()[0])
+    if model.case.plane.waters:
+        pattern = pattern + owned_pattern(model.local.mesh, model.owned_local,
+                                          model.case.plane.waters)
+    return pattern
+
+
+def whole_gravity(model, M):
+    """The pattern per unit g of gravity_pattern on rank 0's whole mesh
+    (its numbering as read), M the whole mesh's mass matrix: the static
+    solve's."""
+    from vstpetsc.plane.water import whole_pattern
+
+    pattern = unit_gravity(M)
+    if model.case.plane.waters:
+        pattern = pattern + whole_pattern(model.mesh, model.case.plane.waters)
+    return pattern
 
 
 def plane_loads(model, dt, extra=()):
     """The PlaneLoads of a model: its boundaries' patterns and held dofs,
-    gravity (a body force rho g along +y, g the [gravity] history) and the
+    gravity (a body force rho g along +y, g the [gravity] history, with the
+    water's pressure, gravity_pattern) and the
     ``extra`` terms (a static start's reactions)."""
     terms = list(model.boundaries.patterns) + list(extra)
     gravity = model.case.gravity

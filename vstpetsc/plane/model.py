@@ -59,7 +59,11 @@ def _built_mesh(spec):
 
 def check_names(case, mesh):
     """InputError unless every [[region]] and [[boundary]] names a region
-    or a curve of the mesh and every region of the mesh has a table."""
+    or a curve of the mesh, every region of the mesh has a table and every
+    [[water]] wets outer-boundary curves below its level
+    (vstpetsc.plane.water.check)."""
+    from vstpetsc.plane import water
+
     plane, regions = case.plane, mesh.region_names
     named = [r.name for r in plane.regions]
     for i, r in enumerate(plane.regions):
@@ -77,6 +81,9 @@ def check_names(case, mesh):
         if mesh_cell(mesh, g.x) is None:
             raise InputError(f"gauge ({g.name}).x: ({g.x[0]:g}, {g.x[1]:g}) lies in no cell "
                              "of the mesh")
+    problem = water.check(plane.waters, mesh)
+    if problem:
+        raise InputError(problem)
 
 
 def split_interfaces(case, mesh):
@@ -117,7 +124,23 @@ def summary(case, output, mesh=None, infos=None):
     lines += [f"  boundary {b.name}: {b.type}" + (", incident wave" if b.incident else "")
               for b in case.plane.boundaries]
     lines += [interface_line(i) for i in infos or ()]
+    lines += water_lines(case, mesh)
     return "\n".join(lines)
+
+
+def water_lines(case, mesh):
+    """One line per [[water]] of the summary: its level and its thrust at
+    g(0) on the split mesh."""
+    from vstpetsc.plane.water import water_record
+
+    g0 = float(case.gravity.g(np.zeros(1))[0]) if case.plane.waters else 0.0
+    out = []
+    for spec in case.plane.waters:
+        force = water_record(mesh, spec).values(g0)["force"]
+        out.append(f"  water {spec.name}: level {spec.level:g}, rho {spec.rho:g}, faces "
+                   f"{', '.join(spec.faces)}; hydrostatic resultant at t = 0 "
+                   f"({force[0]:.6g}, {force[1]:.6g}) per unit thickness")
+    return out
 
 
 def interface_line(info):
@@ -180,9 +203,24 @@ class PlaneModel:
         if self.pairs is not None:
             from vstpetsc.plane.pairs import InterfaceRecord
             self.recorded = [InterfaceRecord(self.pairs, i) for i in self.infos]
+        self.waters = self._waters(rank0)
         self._matrices = None
         from vstpetsc.plane.gauges import PlaneGauges
         self.gauges = PlaneGauges(self)
+
+    def _waters(self, rank0):
+        """The WaterRecords of the [[water]] tables (the outputs, rank 0's;
+        elsewhere their shapes' stand-ins: the nodes' count, every rank's)."""
+        from vstpetsc.plane.water import WaterRecord, water_record
+
+        specs = self.case.plane.waters
+        records = [water_record(self.mesh, spec) for spec in specs] if rank0 else None
+        counts = self.comm.tompi4py().bcast(
+            [r.nodes.size for r in records] if rank0 else None, root=0)
+        if rank0:
+            return records
+        return [WaterRecord(spec, np.zeros(m, dtype=int), np.zeros(m), np.zeros(2))
+                for spec, m in zip(specs, counts)]
 
     def _regions(self, names):
         by_name = {r.name: r for r in self.case.plane.regions}

@@ -1,13 +1,15 @@
 """The tables of a plane-strain case (interface.md, "Plane strain (2-D)"):
-[mesh], [[region]], [[boundary]], [[interface]], [[gauge]] with x = [x, y], and
-[gravity] along y.  A case with a [mesh] table is 2-D; the 1-D tables
-are refused in it.  Names of regions and curves are checked against the
+[mesh], [[region]], [[boundary]], [[interface]], [[gauge]] with x = [x, y],
+[gravity] along y, and [[water]] (hydrostatic, docs/water.md).  A case
+with a [mesh] table is 2-D; the 1-D tables are refused in it.  Names of regions and curves are checked against the
 mesh when the model reads it (vstpetsc.plane.model); nothing here reads
 the mesh or imports PETSc."""
 
 import math
 import os
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from vstpetsc.results.plane_layout import COMPONENTS
 from vstpetsc.input.checker import is_number, name_problem, show
@@ -16,7 +18,8 @@ from vstpetsc.materials import mkz
 from vstpetsc.spacetime.history import History
 
 ONE_D = ("body", "contact", "bc", "soil")
-TOP = ("time", "output", "units", "gravity", "gauge", "mesh", "region", "boundary", "interface")
+TOP = ("time", "output", "units", "gravity", "gauge", "mesh", "region", "boundary", "interface",
+       "water")
 GENERATED = {"rectangle": ("x", "y", "nx", "ny", "triangles", "joints"),
              "dam": ("height", "crest", "upstream", "downstream", "foundation_depth",
                      "foundation_width", "h")}
@@ -29,6 +32,10 @@ MASSES = ("averaged", "consistent", "lumped")
 MOTIONS = ("incident", "outcrop")
 INTERFACE_KEYS = ("name", "friction", "formulation", "penalty")
 FORMULATIONS = ("power", "seed")
+WATER_KEYS = ("name", "level", "rho", "faces", "hydrodynamic")
+HYDRODYNAMIC = ("none", "westergaard", "acoustic")
+# the contract's keys of the water that this step does not build yet
+WATER_LATER = ("uplift", "tailwater", "region", "bulk", "far", "bottom")
 
 
 @dataclass
@@ -93,11 +100,23 @@ class InterfaceSpec:
 
 
 @dataclass
+class WaterSpec:
+    """A [[water]] table: the free surface's y ``level``, the water's
+    ``rho`` and the curves ``faces`` it wets (hydrostatic only)."""
+
+    name: str
+    level: float
+    rho: float
+    faces: tuple
+
+
+@dataclass
 class PlaneSpec:
     mesh: MeshSpec
     regions: list
     boundaries: list
     interfaces: list = field(default_factory=list)
+    waters: list = field(default_factory=list)
 
 
 @dataclass
@@ -142,6 +161,8 @@ def read_rest(chk, doc, parts):
         if r.confinement is not None and not static:
             chk.add(f"region[{i}] ({r.name}).confinement", "needs [gravity] with initial = "
                     "\"static\" (each cell's moduli come from its mean stress there)")
+    parts["plane"].waters = read_waters(chk, chk.tables(doc, "water"), parts["gravity"],
+                                        "gravity" in doc)
     parts.update(bodies=[], contacts=[], bcs=[], soils=[])
 
 
@@ -410,6 +431,59 @@ def read_interfaces(chk, tables, boundaries):
         if name is not None and form is not None and not bad:
             out.append(InterfaceSpec(name, mu, form, penalty))
     return out
+
+
+def read_waters(chk, tables, gravity, given):
+    """The [[water]] tables (docs/water.md): hydrostatic on named faces,
+    which the model checks against the mesh (vstpetsc.plane.water.check).
+    ``gravity``: the [gravity] read (None: absent or bad, ``given`` says
+    which)."""
+    out, seen = [], set()
+    for i, tbl in enumerate(tables):
+        name, where = _named(chk, tbl, "water", i, WATER_KEYS + WATER_LATER, seen,
+                             "a second [[water]] named")
+        if not _water_now(chk, tbl, where):
+            continue
+        level = chk.number(tbl, "level", where)
+        rho = chk.number(tbl, "rho", where, required=False, default=1000.0, positive=True)
+        faces = _faces(chk, tbl.get("faces"), f"{where}.faces")
+        if gravity is None and not given:
+            chk.add(where, "needs [gravity] (g along y): the water's weight is what loads "
+                    "the dam")
+        elif gravity is not None and np.any(gravity.g.f > 0):
+            chk.add("gravity.g", f"water {name!r} needs g <= 0 (downward along y) at every "
+                    "point of its history")
+        if None not in (name, level, rho, faces):
+            out.append(WaterSpec(name, level, rho, faces))
+    return out
+
+
+def _water_now(chk, tbl, where):
+    """Whether a [[water]] table asks only for what this step builds
+    (reported otherwise)."""
+    for key in WATER_LATER:
+        if key in tbl:
+            chk.add(f"{where}.{key}", "not built yet (hydrostatic water only, docs/water.md)")
+            return False
+    kind = chk.string(tbl, "hydrodynamic", where, required=False, default="none",
+                      choices=HYDRODYNAMIC)
+    if kind not in (None, "none"):
+        chk.add(f"{where}.hydrodynamic", f"{kind!r} is not built yet (hydrostatic water "
+                "only: \"none\", docs/water.md)")
+    return kind == "none"
+
+
+def _faces(chk, val, where):
+    """A non-empty list of distinct curve names as a tuple (None after
+    reporting)."""
+    if not (isinstance(val, list) and val and all(isinstance(v, str) for v in val)):
+        chk.add(where, f"must be a non-empty list of curve names, got "
+                f"{show(val) if val is not None else 'nothing'}")
+        return None
+    if len(set(val)) < len(val):
+        chk.add(where, f"names a curve twice: {val}")
+        return None
+    return tuple(val)
 
 
 def _boundary(chk, tbl, where, name, kind):

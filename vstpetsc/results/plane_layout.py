@@ -7,6 +7,7 @@
     /gauge/<name>/u, v (ns + 1, 2)
     /interface/<name>/nodes, normal, tangent (m, 2), length (m,)
     /interface/<name>/gap, normal_force, shear_force, slip, stretch (nt, m)
+    /water/<name>/nodes (m,), /water/<name>/pressure (nt, m), force (nt, 2)
     /energy/*, /solver/*, /time as in 1-D
 """
 
@@ -18,6 +19,8 @@ COMPONENTS = ("x", "y")
 MESH = "mesh"
 FIELD = "field"
 INTERFACE = "interface"      # /interface/<name>: a [[interface]]'s pairs
+WATER = "water"              # /water/<name>: a [[water]]'s wetted nodes and loads
+WATER_SERIES = ("pressure", "force")
 DIMENSION = "dimension"
 REQUIRED = ("time", MESH, FIELD, "energy", "solver")
 

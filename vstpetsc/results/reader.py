@@ -178,6 +178,21 @@ class PlaneParts:
                            f"{', '.join(self.interfaces) or 'none'})")
         return Group(self, f"interface/{name}")
 
+    @property
+    def waters(self):
+        """The names of a plane-strain result's [[water]] tables (empty without)."""
+        return self.keys(plane_layout.WATER) if plane_layout.WATER in self else []
+
+    def water(self, name):
+        """Datasets of a [[water]] table: ``.nodes`` (m,) the wetted nodes in
+        order along its faces, at the kept times ``.pressure`` (nt, m) and
+        ``.force`` (nt, 2) its resultant on the solid per unit thickness."""
+        self._plane_only("water")
+        if name not in self.waters:
+            raise KeyError(f"no water {name!r} (water tables: "
+                           f"{', '.join(self.waters) or 'none'})")
+        return Group(self, f"{plane_layout.WATER}/{name}")
+
 
 class Result(PlaneParts, FileReads):
     """A result file of `vstpetsc run`.

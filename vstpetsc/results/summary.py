@@ -190,6 +190,7 @@ def plane_summary(result):
     out["stress"] = [(value, *map(float, centre[k]), float(time[i])) for value, k, i in stress] \
         if cells.size else []
     out["interfaces"] = [interface_summary(result, name) for name in result.interfaces]
+    out["waters"] = [water_summary(result, name) for name in result.waters]
     out["strain"] = largest_strain(result, centre)
     return out
 
@@ -231,6 +232,18 @@ def interface_summary(result, name):
             "permanent": (float(last[k]), *map(float, xy[k])),
             "opening": (float(gap[m, p]), *map(float, xy[p]), float(time[m])),
             "open": (float(opened[n]), float(time[n]))}
+
+
+def water_summary(result, name):
+    """A water table's largest resultant |F| over the kept rows: (its x and
+    y components, the time), and its wetted nodes' count."""
+    w = result.water(name)
+    force = w.force[:]
+    out = {"name": name, "nodes": int(w.nodes.shape[0])}
+    if not force.size:
+        return {**out, "force": None}
+    i = int(np.hypot(*force.T).argmax())
+    return {**out, "force": (*map(float, force[i]), float(result.time[i]))}
 
 
 def plane_gauge_summary(result, name):
@@ -378,6 +391,13 @@ def plane_lines(p):
         v, x, y, t = i["opening"]
         lines.append(f"    largest opening {v:.4g} at ({x:.6g}, {y:.6g}), t = {t:.6g}; largest "
                      f"length open {i['open'][0]:.6g} at t = {i['open'][1]:.6g}")
+    for w in p.get("waters", ()):
+        line = f"  water {w['name']}: {w['nodes']} wetted nodes"
+        if w["force"] is not None:
+            fx, fy, t = w["force"]
+            line += (f"; largest resultant ({fx:.6g}, {fy:.6g}), |F| {np.hypot(fx, fy):.6g} "
+                     f"per unit thickness, t = {t:.6g}")
+        lines.append(line)
     return lines
 
 

@@ -1,9 +1,9 @@
 """The static start of a plane-strain run under gravity ([gravity]
 initial = "static", as in 1-D: docs/loads.md): K u = f, f the weight at
-g(0) and the tractions constant in time, with every held dof and every
-node of an absorbing curve held, solved once; the run then starts from
-rest in u with the absorbing nodes' reactions K u - f kept as constant
-forces (interfaces: each pair closed or open, sticking or sliding at mu
+g(0) with the water's pressure (docs/water.md) and the tractions constant
+in time, with every held dof and every node of an absorbing curve held,
+solved once; the run then starts from rest in u with the absorbing
+nodes' reactions K u - f kept as constant forces (interfaces: each pair closed or open, sticking or sliding at mu
 N, settled by repeated solves, vstpetsc.plane.pairs), so that (u, 0) is
 an exact equilibrium of the slab equations (with v = 0 their right-hand
 side is dt/2 (f - K u) on both time rows, zero everywhere).  A part of
@@ -49,11 +49,11 @@ def _solve_on_rank0(model, held, g0, carried):
     """u of every node (mesh as read), solved on rank 0 (None elsewhere),
     under the weight at g0 and the ``carried`` loads (dofs, forces); with
     interfaces, their pairs' states settled (``_settled``)."""
-    from vstpetsc.plane.loads import unit_gravity
+    from vstpetsc.plane.loads import whole_gravity
     from vstpetsc.plane.model import spatial_matrices
 
     M, _, K = spatial_matrices(model.mesh, model.cell_materials)
-    rhs = unit_gravity(M) * g0
+    rhs = whole_gravity(model, M) * g0
     np.add.at(rhs, *carried)
     rhs[held] = 0.0
     if model.pairs is None:
