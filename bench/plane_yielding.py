@@ -111,7 +111,8 @@ def section(out):
              "|---|---|---|---|---|"]
     for name, row in out.items():
         if isinstance(row, dict) and "failed" in row:
-            lines.append(f"| {name} | failed: {row['failed']} | | | |")
+            failed = row['failed'].replace('|', '\\|')          # a table cell
+            lines.append(f"| {name} | failed: {failed} | | | |")
         elif isinstance(row, dict):
             lines.append(f"| {name} | {row['min_ms']:.1f} | {row['median_ms']:.1f} | "
                          f"{row['ratio_median']:.2f} | "
