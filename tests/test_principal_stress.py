@@ -212,3 +212,26 @@ def test_xdmf_and_plot_show_the_envelopes(shaken, tmp_path):
         png = tmp_path / f"{colour}.png"
         p = run_cli("plot", five, "--color", colour, "-o", png)
         assert p.returncode == 0 and png.stat().st_size > 10000, p.stderr
+
+
+def test_a_file_without_the_envelopes(shaken, tmp_path):
+    """A file of an earlier version (the datasets deleted here): `info`
+    leaves the line out, `plot --color principal_max` and `--restart`
+    refuse in one line (exit 2)."""
+    import shutil
+
+    folder, _, five = shaken
+    old = tmp_path / "old.h5"
+    shutil.copy(five, old)
+    with h5py.File(old, "a") as f:
+        for name in DATASETS:
+            del f[f"field/{name}"]
+    p = run_cli("info", old)
+    assert p.returncode == 0 and "tension" not in p.stdout, p.stderr
+    p = run_cli("plot", old, "--color", "principal_max", "-o", tmp_path / "p.png")
+    assert p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1, p.stderr
+    assert "principal_max" in p.stderr and not (tmp_path / "p.png").exists()
+    p = run_cli("run", dam(tmp_path, every=5, end=0.2, name="old"), "-o", old, "-q",
+                "--restart", old)
+    assert p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1, p.stderr
+    assert "principal stress envelopes" in p.stderr

@@ -22,7 +22,7 @@ from vstpetsc.errors import SolveFailed
 from vstpetsc.native import library
 from vstpetsc.petsc.ranks import Ranks
 from vstpetsc.plane.assembly import identity_rows
-from vstpetsc.plane.principal import PrincipalStresses
+from vstpetsc.plane.solver.principal import PrincipalStresses
 from vstpetsc.plane.solver.matrices import petsc_matrix
 from vstpetsc.plane.solver.newton_terms import slab_newton
 from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
