@@ -15,7 +15,8 @@ USAGE = """usage: vstpetsc run CASE.toml [-o RESULT.h5] [--every K] [--quiet] [-
                     [--restart RESULT.h5] [PETSc options ...]
        vstpetsc example [NAME [-o CASE.toml]]   list the bundled cases, or write one
        vstpetsc info RESULT.h5                   one-screen summary of a result
-       vstpetsc plot RESULT.h5 [-o FIGURE.png] [--times T1,T2] [--color speed|sxx|syy|sxy]
+       vstpetsc plot RESULT.h5 [-o FIGURE.png] [--times T1,T2]
+                    [--color speed|sxx|syy|sxy|strain_max|principal_max|principal_min]
                                                  velocity map and what the case has; 2-D: the
                                                  deformed mesh by speed at T1, T2, gauges, energy,
                                                  each interface's slip and opening

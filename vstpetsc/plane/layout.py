@@ -8,6 +8,7 @@ import numpy as np
 from vstpetsc.errors import InputError
 
 from vstpetsc.plane.energy import centre_stress
+from vstpetsc.plane.principal import read_saved
 from vstpetsc.results.layout import ENERGY, SOIL_STATE, SOLVER, TIME
 from vstpetsc.results.plane_layout import DIMENSION, MESH, PAIR_SERIES, field_path
 from vstpetsc.runner import energy as energy_mod
@@ -66,16 +67,23 @@ def root_attrs():
     return {DIMENSION: 2}
 
 
-def envelope_snapshots(model, lo, hi):
-    """A yielding zone's /field/strain_max and strain_max_time (rank 0),
-    rewritten with every block."""
+def envelope_snapshots(model, principal, _=None):
+    """The cells' principal stress envelopes (``principal``: the solver's,
+    gathered on rank 0: /field/principal_max, ...) and a yielding zone's
+    /field/strain_max and strain_max_time (rank 0), rewritten with every
+    block (copies: a block may be written after the next slab)."""
+    out = {field_path(name): values.copy() for name, values in (principal or {}).items()}
     zone = model.zone
-    return {} if zone is None else {field_path("strain_max"): zone.strain_max,
-                                    field_path("strain_max_time"): zone.strain_time}
+    if zone is not None:
+        out.update({field_path("strain_max"): zone.strain_max.copy(),
+                    field_path("strain_max_time"): zone.strain_time.copy()})
+    return out
 
 
 def read_envelopes(f, model):
-    return None
+    """The principal stress envelopes a restart continues (every rank
+    reads them; vstpetsc.plane.principal.read_saved)."""
+    return read_saved(f, int(f["solver/slab"][-1]), field_path)
 
 
 class RowFiller:

@@ -34,8 +34,9 @@ or, for a mix, a Mixed topology written inline (the one copy: the two
 kinds interleave in the file); ``region`` (cells) is /mesh/region; u, v
 (nodes, 2 components) and stress (cells, 3 components: sigma_xx,
 sigma_yy, sigma_xy) of each kept time are hyperslabs of /field; a
-yielding run's strain_max and strain_max_time (cells, over the run) are
-attributes of the first grid, shared like region.
+yielding run's strain_max and strain_max_time, and the principal stress
+envelopes principal_max, principal_min and their times (cells, over the
+run) are attributes of the first grid, shared like region.
 tests/test_plane_outputs.py opens it with VTK's vtkXdmfReader (ParaView's
 XDMF reader) and finds the datasets bit for bit.  Each interface adds a
 temporal collection ``interface-<name>``: a Polyvertex cell per node pair
@@ -58,7 +59,10 @@ KEPT_GROUPS = ("energy", "solver")
 SHEAR_GROUP = "shear"       # /body/<name>/shear: the shear component's datasets
 PLANE_GRID = "mesh"         # the name of a plane-strain result's temporal collection
 PLANE_FIELDS = (("u", "Node"), ("v", "Node"), ("stress", "Cell"))
-ENVELOPES = ("strain_max", "strain_max_time")
+# per cell over the run: a yielding run's strain_max; every run's
+# principal stress envelopes (a file of an earlier version: absent)
+ENVELOPES = ("strain_max", "strain_max_time", "principal_max", "principal_max_time",
+             "principal_min", "principal_min_time")
 # an interface's series in its XDMF grid (stretch, a law's inner state, stays in the file)
 INTERFACE_FIELDS = ("gap", "normal_force", "shear_force", "slip")
 XDMF_TRIANGLE, XDMF_QUADRILATERAL = 4, 5     # XDMF's codes of cells in a Mixed topology
@@ -248,7 +252,7 @@ def _plane_grids(result, h5):
     shapes = {"Node": (times.size, nn, 2), "Cell": (times.size, ne, 3)}
     first = f"{PLANE_GRID}-0"
     once = ["region"]
-    for name in ENVELOPES:               # a yielding run's envelopes over the run
+    for name in ENVELOPES:               # the envelopes over the run
         if plane_layout.field_path(name) in result:
             mesh += (f'<Attribute Name="{name}" AttributeType="Scalar" Center="Cell">'
                      f'{_hdf(h5, plane_layout.field_path(name), (ne,))}</Attribute>')

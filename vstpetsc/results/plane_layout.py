@@ -4,6 +4,7 @@
 
     /mesh/coordinates (nn, 2), /mesh/cells (ne, 4), /mesh/region (ne,) + attribute names
     /field/u, /field/v (nt, nn, 2), /field/stress (nt, ne, 3)
+    /field/principal_max, principal_min (+ _time) (ne,) envelopes, rewritten with every block
     /gauge/<name>/u, v (ns + 1, 2)
     /interface/<name>/nodes, normal, tangent (m, 2), length (m,)
     /interface/<name>/gap, normal_force, shear_force, slip, stretch (nt, m)

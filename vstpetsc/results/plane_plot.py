@@ -15,9 +15,13 @@ EDGES_UP_TO = 5000      # cell edges drawn up to this many cells: beyond they bl
 MAX_TIMES = 6           # mesh panels at most (the figure's width is fixed)
 # what the mesh panels may be coloured by: the speed at the nodes, a
 # stress component at the cells' centres (its column in /field/stress), or
-# a yielding run's largest equivalent shear strain per cell (an envelope
-# over the run: the same in every panel)
-COLOURS = {"speed": None, "sxx": 0, "syy": 1, "sxy": 2, "strain_max": "strain_max"}
+# an envelope per cell over the run (the same in every panel): a yielding
+# run's largest equivalent shear strain, the largest s1 and smallest s2 of
+# the principal stresses
+ENVELOPE_LABELS = {"strain_max": "largest shear strain over the run",
+                   "principal_max": "largest principal stress over the run",
+                   "principal_min": "smallest principal stress over the run"}
+COLOURS = {"speed": None, "sxx": 0, "syy": 1, "sxy": 2, **{k: k for k in ENVELOPE_LABELS}}
 STRESS_NAMES = {"sxx": "sigma_xx", "syy": "sigma_yy", "sxy": "sigma_xy"}
 
 
@@ -105,16 +109,25 @@ def panel_values(r, rows, colour):
     if COLOURS[colour] is None:
         values = speed(r.read(plane_layout.field_path("v"), np.s_[rows]))
         return values, (0.0, float(np.nanmax(values, initial=0.0)) or 1.0), "speed |v|"
-    if colour == "strain_max":
-        if plane_layout.field_path("strain_max") not in r:
-            raise InputError("color strain_max: the result has no yielding region "
-                             "(/field/strain_max)")
-        strain = r.read(plane_layout.field_path("strain_max"))
-        return ([strain] * len(rows), (0.0, float(strain.max(initial=0.0)) or 1.0),
-                "largest shear strain over the run")
+    if colour in ENVELOPE_LABELS:
+        return envelope_values(r, rows, colour)
     values = r.read(plane_layout.field_path("stress"), np.s_[rows])[..., COLOURS[colour]]
     top = float(np.nanmax(np.abs(values), initial=0.0)) or 1.0
     return values, (-top, top), STRESS_NAMES[colour]
+
+
+def envelope_values(r, rows, colour):
+    """panel_values of an envelope over the run: the same values in every
+    panel, 0 .. largest (a strain) or symmetric about 0 (a stress)."""
+    path = plane_layout.field_path(colour)
+    if path not in r:
+        why = "no yielding region" if colour == "strain_max" else \
+            "no principal stress envelopes (an earlier version's file)"
+        raise InputError(f"color {colour}: the result has {why} (/{path})")
+    values = r.read(path)
+    top = float(np.nanmax(np.abs(values), initial=0.0)) or 1.0
+    limits = (0.0, top) if colour == "strain_max" else (-top, top)
+    return [values] * len(rows), limits, ENVELOPE_LABELS[colour]
 
 
 def gauge_velocities(ax, r, u):

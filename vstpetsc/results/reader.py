@@ -154,7 +154,10 @@ class PlaneParts:
     @property
     def field(self):
         """A plane-strain result's fields at the kept times: ``.u``, ``.v``
-        (nt, nn, 2), ``.stress`` (nt, ne, 3: sigma_xx, sigma_yy, sigma_xy)."""
+        (nt, nn, 2), ``.stress`` (nt, ne, 3: sigma_xx, sigma_yy, sigma_xy);
+        the envelopes over the run (ne,): ``.principal_max``,
+        ``.principal_min`` and their ``_time`` (a yielding run's
+        ``.strain_max``)."""
         self._plane_only("field")
         return Group(self, plane_layout.FIELD)
 

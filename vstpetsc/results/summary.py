@@ -192,7 +192,23 @@ def plane_summary(result):
     out["interfaces"] = [interface_summary(result, name) for name in result.interfaces]
     out["waters"] = [water_summary(result, name) for name in result.waters]
     out["strain"] = largest_strain(result, centre)
+    out["tension"] = largest_tension(result, centre)
     return out
+
+
+def largest_tension(result, centre):
+    """The largest principal stress over the run, the largest tension when
+    positive: (the largest /field/principal_max, its cell, the cell's
+    centre x, y, the time it was reached); None in a file of an earlier
+    version."""
+    if "field/principal_max" not in result:
+        return None
+    high = result.read("field/principal_max")
+    if not high.size:
+        return None
+    k = int(high.argmax())
+    return (float(high[k]), k, *map(float, centre[k]),
+            float(result.read("field/principal_max_time")[k]))
 
 
 def largest_strain(result, centre):
@@ -380,6 +396,11 @@ def plane_lines(p):
         value, cell, x, y, t = p["strain"]
         lines.append(f"    largest shear strain 2 sqrt(J2) {value:.4g} in cell {cell} at "
                      f"({x:.6g}, {y:.6g}), t = {t:.6g} (yielding regions, over the run)")
+    if p.get("tension") is not None:
+        value, cell, x, y, t = p["tension"]
+        where = f"in cell {cell} at ({x:.6g}, {y:.6g}), t = {t:.6g} (every slab end)"
+        lines.append(f"    largest tension (principal stress) {value:.6g} {where}" if value > 0
+                     else f"    no tension: the largest principal stress {value:.6g} {where}")
     for i in p.get("interfaces", ()):
         lines.append(f"  interface {i['name']}: {i['pairs']} node pairs, length {i['length']:.6g}")
         if i["slip"] is None:

@@ -22,6 +22,7 @@ from vstpetsc.errors import SolveFailed
 from vstpetsc.native import library
 from vstpetsc.petsc.ranks import Ranks
 from vstpetsc.plane.assembly import identity_rows
+from vstpetsc.plane.solver.principal import PrincipalStresses
 from vstpetsc.plane.solver.matrices import petsc_matrix
 from vstpetsc.plane.solver.newton_terms import slab_newton
 from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
@@ -79,6 +80,7 @@ class PlaneSolver:
         self.pairs, self.zone = model.pairs, model.zone
         if hasattr(self.zone, "use_native") and PETSc.Options().getBool("vst_native", True):
             self.zone.use_native(library())
+        self.principal = PrincipalStresses(model, dt, comm)
         self.newton = None if self.pairs is None and self.zone is None else \
             slab_newton(self, comm)
 
@@ -90,7 +92,13 @@ class PlaneSolver:
         return f"plane strain, {kind}, Vp dt / h up to {self.courant:.3g}"
 
     def set_state(self, u, v, envelopes=None):
-        """Start from u, v (nn, 2) of every node (the mesh's numbering as read)."""
+        """Start from u, v (nn, 2) of every node (the mesh's numbering as
+        read): the principal stress envelopes from u at t = 0, or a
+        restart's ``envelopes`` (layout.read_envelopes)."""
+        self._take_state(u, v)
+        self.principal.start(self.u, envelopes)
+
+    def _take_state(self, u, v):
         own = self.model.owned_original
         self.u[:] = np.asarray(u).reshape(-1, 2)[own].ravel()
         self.v[:] = np.asarray(v).reshape(-1, 2)[own].ravel()
@@ -153,6 +161,7 @@ class PlaneSolver:
         self.u += 0.5 * self.dt * (v1 + v2)
         self.v[:] = v2
         self._products_fresh = False
+        self.principal.after_slab(self.u)
 
     def _damping(self, v1, v2):
         """This rank's v1 C v1 + v1 C v2 + v2 C v2 (rows it owns)."""
@@ -186,7 +195,7 @@ class PlaneSolver:
     def held_energies(self, u, v):
         """(kinetic, strain) of the state u, v (nn, 2) (collective)."""
         keep = self.u.copy(), self.v.copy()
-        self.set_state(u, v)
+        self._take_state(u, v)
         totals = self.totals()
         self.u[:], self.v[:] = keep
         self._products_fresh = False
@@ -207,7 +216,9 @@ class PlaneSolver:
         return None
 
     def envelopes(self, nelements):
-        return None, None
+        """(the principal stress envelopes on rank 0, None): what the
+        layout's envelope_snapshots writes (collective)."""
+        return self.principal.gathered(), None
 
     def probe(self, nodes):
         """A callable giving (u, v) (n, 2) at ``nodes`` (the mesh's numbering)

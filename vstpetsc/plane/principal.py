@@ -1,0 +1,112 @@
+"""Each cell's principal in-plane stresses at every slab end and their
+envelopes over the run (issue 47: what dam engineers read for cracking;
+docs/plane-strain.md, "Outputs").
+
+A cell's stress is the one /field/stress keeps: the linear cells' at the
+cell centre from u, a yielding cell's the law's (its points' mean,
+vstpetsc.plane.yielding.YieldingZone.cell_stress).  Its principal
+stresses s1 >= s2 of (sxx, syy, sxy) are
+
+    s = (sxx + syy) / 2 +- sqrt(((sxx - syy) / 2)^2 + sxy^2),
+
+and the envelopes are max s1 and min s2 over every slab end, t = 0
+included, with the time each was reached.  Pure numpy: the solver keeps
+them every slab (vstpetsc.plane.solver.principal)."""
+
+import numpy as np
+import scipy.sparse as sp
+
+from vstpetsc.errors import InputError
+from vstpetsc.plane import elements
+
+DATASETS = ("principal_max", "principal_max_time", "principal_min", "principal_min_time")
+# a time moves only when its envelope grows by more than this part of the
+# cell's largest |principal stress| so far: a state at rest (a static
+# start) repeats its stress to rounding at every slab, and one rank or two
+# would otherwise pick different slabs among equal values
+TIME_MARGIN = 1e-9
+
+
+def principal_stresses(stress):
+    """(s1, s2), s1 >= s2, of the in-plane stresses ``stress`` (n, 3):
+    sigma_xx, sigma_yy, sigma_xy."""
+    centre = 0.5 * (stress[:, 0] + stress[:, 1])
+    radius = np.hypot(0.5 * (stress[:, 0] - stress[:, 1]), stress[:, 2])
+    return centre + radius, centre - radius
+
+
+def stress_operator(mesh, lam, mu, cells, dof_of_node, ncolumns):
+    """CSR (3 len(cells), ncolumns): u (2 a node, x then y, at ``2
+    dof_of_node[node] + c``) to sigma_xx, sigma_yy, sigma_xy at the centre
+    of each of ``cells`` of ``mesh`` (Lame's ``lam``, ``mu`` per cell of the
+    mesh): D B, B at the centre (exact for a linear displacement; a
+    quadrilateral's at its reference centre), as energy.centre_stress."""
+    row_of = -np.ones(mesh.ncells, dtype=np.int64)
+    row_of[cells] = np.arange(len(cells))
+    D = elements.elasticity(np.broadcast_to(lam, (mesh.ncells,)),
+                            np.broadcast_to(mu, (mesh.ncells,)))
+    rows, cols, values = [], [], []
+    for kind, corners, gradients in ((mesh.triangles, 3, elements.triangle_gradients),
+                                     (mesh.quadrilaterals, 4, elements.centre_gradients)):
+        kind = kind[row_of[kind] >= 0]
+        if not kind.size:
+            continue
+        nodes = mesh.cells[kind, :corners]
+        DB = D[kind] @ elements.strain_operator(gradients(mesh.coordinates[nodes]))
+        dofs = (2 * dof_of_node[nodes][:, :, None] + np.arange(2)).reshape(kind.size, 1, -1)
+        where = 3 * row_of[kind][:, None, None] + np.arange(3)[None, :, None]
+        r, c = np.broadcast_arrays(where, dofs)
+        rows.append(r.ravel()), cols.append(c.ravel()), values.append(DB.ravel())
+    cat = lambda parts, dtype: np.concatenate(parts) if parts else np.zeros(0, dtype)
+    return sp.csr_matrix((cat(values, float), (cat(rows, np.int64), cat(cols, np.int64))),
+                         shape=(3 * len(cells), ncolumns))
+
+
+class Envelope:
+    """The envelopes of the cells ``cells`` (numbers in the mesh as read):
+    the largest s1 and smallest s2 so far and the times they were reached."""
+
+    def __init__(self, cells):
+        self.cells = np.asarray(cells, dtype=np.int64)
+        n = self.cells.size
+        self.high, self.low = np.zeros(n), np.zeros(n)
+        self.high_time, self.low_time = np.zeros(n), np.zeros(n)
+
+    def start(self, stress, t):
+        """The first slab end's stress (n, 3) at time t."""
+        self.high, self.low = principal_stresses(stress)
+        self.high_time[:], self.low_time[:] = t, t
+
+    def take(self, stress, t):
+        """One more slab end's stress (n, 3) at time t."""
+        s1, s2 = principal_stresses(stress)
+        margin = TIME_MARGIN * np.maximum(np.abs(self.high), np.abs(self.low))
+        self.high_time[s1 > self.high + margin] = t
+        self.low_time[s2 < self.low - margin] = t
+        np.maximum(self.high, s1, out=self.high)
+        np.minimum(self.low, s2, out=self.low)
+
+    def restore(self, saved):
+        """The values of ``saved`` ({DATASETS name: (ne,)}) at these cells."""
+        self.high = np.array(saved["principal_max"][self.cells], dtype=float)
+        self.high_time = np.array(saved["principal_max_time"][self.cells], dtype=float)
+        self.low = np.array(saved["principal_min"][self.cells], dtype=float)
+        self.low_time = np.array(saved["principal_min_time"][self.cells], dtype=float)
+
+    def arrays(self):
+        return self.cells, np.stack([self.high, self.high_time, self.low, self.low_time])
+
+
+def read_saved(f, k, field_path):
+    """The envelopes a restart from slab ``k`` of open result file ``f``
+    continues ({DATASETS name: (ne,), "slab": k}): written with the blocks,
+    at slab k or, after a failed solve, the last slab solved (the slabs
+    between are solved again, the same values).  InputError for a file
+    without them (an earlier version's)."""
+    names = [field_path(name) for name in DATASETS]
+    if any(name not in f for name in names) or \
+            int(f[names[0]].attrs.get("slab", -1)) < k:
+        raise InputError(f"--restart: the file keeps no principal stress envelopes at its "
+                         f"last row (slab {k}; written by an earlier vstpetsc version?); run "
+                         "the case from the start")
+    return {"slab": k, **{name: f[path][...] for name, path in zip(DATASETS, names)}}
