@@ -61,8 +61,9 @@ def check_names(case, mesh):
     """InputError unless every [[region]] and [[boundary]] names a region
     or a curve of the mesh, every region of the mesh has a table and every
     [[water]] wets outer-boundary curves below its level
-    (vstpetsc.plane.water.check)."""
-    from vstpetsc.plane import water
+    (vstpetsc.plane.water.check) and lifts one open curve
+    (vstpetsc.plane.uplift.check)."""
+    from vstpetsc.plane import uplift, water
 
     plane, regions = case.plane, mesh.region_names
     named = [r.name for r in plane.regions]
@@ -81,7 +82,7 @@ def check_names(case, mesh):
         if mesh_cell(mesh, g.x) is None:
             raise InputError(f"gauge ({g.name}).x: ({g.x[0]:g}, {g.x[1]:g}) lies in no cell "
                              "of the mesh")
-    problem = water.check(plane.waters, mesh)
+    problem = water.check(plane.waters, mesh) or uplift.check(plane.waters, mesh)
     if problem:
         raise InputError(problem)
 
@@ -204,6 +205,7 @@ class PlaneModel:
             from vstpetsc.plane.pairs import InterfaceRecord
             self.recorded = [InterfaceRecord(self.pairs, i) for i in self.infos]
         self.waters = self._waters(rank0)
+        self.uplift = self._uplift(rank0)
         self._matrices = None
         from vstpetsc.plane.gauges import PlaneGauges
         self.gauges = PlaneGauges(self)
@@ -221,6 +223,17 @@ class PlaneModel:
             return records
         return [WaterRecord(spec, np.zeros(m, dtype=int), np.zeros(m), np.zeros(2))
                 for spec, m in zip(specs, counts)]
+
+    def _uplift(self, rank0):
+        """(m, 2) each pair's uplift force p_u L n (vstpetsc.plane.uplift),
+        every rank's; None when no water has uplift (collective)."""
+        from vstpetsc.plane.uplift import uplift_push
+
+        push = None
+        if rank0 and self.pairs is not None:
+            g0 = float(self.case.gravity.g(np.zeros(1))[0])
+            push = uplift_push(self.mesh, self.pairs, self.infos, self.case.plane.waters, g0)
+        return self.comm.tompi4py().bcast(push, root=0)
 
     def _regions(self, names):
         by_name = {r.name: r for r in self.case.plane.regions}
