@@ -53,11 +53,12 @@ def unit_gravity(M):
 
 def gravity_pattern(model):
     """The nodal pattern per unit g of this rank's owned dofs: the weight
-    (unit_gravity of its rows of the model's M) and the water's pressure
+    (unit_gravity of its rows of the solid's M, without Westergaard's added
+    masses: model.unit_weight) and the water's pressure
     (vstpetsc.plane.water), which follows g as the weight does."""
     from vstpetsc.plane.water import owned_pattern
 
-    pattern = unit_gravity(model.matrices()[0])
+    pattern = model.unit_weight()
     if model.case.plane.waters:
         pattern = pattern + owned_pattern(model.local.mesh, model.owned_local,
                                           model.case.plane.waters)

@@ -212,13 +212,18 @@ class PlaneModel:
 
     def _waters(self, rank0):
         """The WaterRecords of the [[water]] tables (the outputs, rank 0's;
-        elsewhere their shapes' stand-ins: the nodes' count, every rank's)."""
+        elsewhere their shapes' stand-ins: the nodes' count, every rank's);
+        sets ``water_bottoms``, each table's faces' lowest y (every rank's:
+        Westergaard's H)."""
         from vstpetsc.plane.water import WaterRecord, water_record
+
+        from vstpetsc.plane.westergaard import faces_bottom
 
         specs = self.case.plane.waters
         records = [water_record(self.mesh, spec) for spec in specs] if rank0 else None
-        counts = self.comm.tompi4py().bcast(
-            [r.nodes.size for r in records] if rank0 else None, root=0)
+        counts, self.water_bottoms = self.comm.tompi4py().bcast(
+            ([r.nodes.size for r in records], [faces_bottom(self.mesh, s) for s in specs])
+            if rank0 else None, root=0)
         if rank0:
             return records
         return [WaterRecord(spec, np.zeros(m, dtype=int), np.zeros(m), np.zeros(2))
@@ -296,7 +301,7 @@ class PlaneModel:
 
     def matrices(self):
         """(M, C or None, K): this rank's rows (CSR, global columns),
-        assembled once."""
+        assembled once; M with Westergaard's added masses."""
         if self._matrices is None:
             self._matrices = self._assemble()
         return self._matrices
@@ -306,8 +311,23 @@ class PlaneModel:
         copies; at 1e6 cells they are 1.3 GB)."""
         self._matrices = None
 
+    def unit_weight(self):
+        """The nodal pattern of a unit body force along +y on this rank's
+        owned dofs: the rows of the solid's own M (without the water's
+        added masses: they carry no weight)."""
+        self.matrices()
+        return self._unit_weight
+
     def _assemble(self):
+        from vstpetsc.plane.loads import unit_gravity
+        from vstpetsc.plane.westergaard import owned_rows
+
         M, C, K = spatial_matrices(self.local.mesh, self.materials, self.local)
+        self._unit_weight = unit_gravity(M)
+        added = owned_rows(self.local.mesh, self.owned_local, self.first, self.nnodes,
+                           self.case.plane.waters, self.water_bottoms)
+        if added is not None:               # inertia only: not in C = alpha M + beta K
+            M = M + added
         dashpots = self.boundaries.dashpots()
         if dashpots is not None:
             C = dashpots if C is None else C + dashpots
