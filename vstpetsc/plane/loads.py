@@ -53,11 +53,12 @@ def unit_gravity(M):
 
 def gravity_pattern(model):
     """The nodal pattern per unit g of this rank's owned dofs: the weight
-    (unit_gravity of its rows of the model's M) and the water's pressure
+    (unit_gravity of its rows of the solid's M, without Westergaard's added
+    masses: model.unit_weight) and the water's pressure
     (vstpetsc.plane.water), which follows g as the weight does."""
     from vstpetsc.plane.water import owned_pattern
 
-    pattern = unit_gravity(model.matrices()[0])
+    pattern = model.unit_weight()
     if model.case.plane.waters:
         pattern = pattern + owned_pattern(model.local.mesh, model.owned_local,
                                           model.case.plane.waters)
@@ -76,12 +77,28 @@ def whole_gravity(model, M):
     return pattern
 
 
+def uplift_pattern(model):
+    """The uplift's forces on this rank's owned dofs (2 n,)
+    (vstpetsc.plane.uplift; zeros without): constant in time."""
+    from vstpetsc.plane.uplift import owned_pattern
+
+    nown = model.owned_original.size
+    if model.uplift is None:
+        return np.zeros(2 * nown)
+    return owned_pattern(model.pairs.global_nodes, model.uplift, model.first, nown)
+
+
 def plane_loads(model, dt, extra=()):
     """The PlaneLoads of a model: its boundaries' patterns and held dofs,
     gravity (a body force rho g along +y, g the [gravity] history, with the
-    water's pressure, gravity_pattern) and the
-    ``extra`` terms (a static start's reactions)."""
+    water's pressure, gravity_pattern), the uplift (constant,
+    uplift_pattern) and the ``extra`` terms (a static start's
+    reactions)."""
+    from vstpetsc.spacetime.history import History
+
     terms = list(model.boundaries.patterns) + list(extra)
+    if model.uplift is not None:
+        terms.append((uplift_pattern(model), History(value=1.0)))
     gravity = model.case.gravity
     if gravity is not None and not gravity.g.is_zero:
         terms.append((gravity_pattern(model), gravity.g))

@@ -61,8 +61,9 @@ def check_names(case, mesh):
     """InputError unless every [[region]] and [[boundary]] names a region
     or a curve of the mesh, every region of the mesh has a table and every
     [[water]] wets outer-boundary curves below its level
-    (vstpetsc.plane.water.check)."""
-    from vstpetsc.plane import water
+    (vstpetsc.plane.water.check) and lifts one open curve
+    (vstpetsc.plane.uplift.check)."""
+    from vstpetsc.plane import uplift, water
 
     plane, regions = case.plane, mesh.region_names
     named = [r.name for r in plane.regions]
@@ -81,7 +82,7 @@ def check_names(case, mesh):
         if mesh_cell(mesh, g.x) is None:
             raise InputError(f"gauge ({g.name}).x: ({g.x[0]:g}, {g.x[1]:g}) lies in no cell "
                              "of the mesh")
-    problem = water.check(plane.waters, mesh)
+    problem = water.check(plane.waters, mesh) or uplift.check(plane.waters, mesh)
     if problem:
         raise InputError(problem)
 
@@ -204,23 +205,40 @@ class PlaneModel:
             from vstpetsc.plane.pairs import InterfaceRecord
             self.recorded = [InterfaceRecord(self.pairs, i) for i in self.infos]
         self.waters = self._waters(rank0)
+        self.uplift = self._uplift(rank0)
         self._matrices = None
         from vstpetsc.plane.gauges import PlaneGauges
         self.gauges = PlaneGauges(self)
 
     def _waters(self, rank0):
         """The WaterRecords of the [[water]] tables (the outputs, rank 0's;
-        elsewhere their shapes' stand-ins: the nodes' count, every rank's)."""
+        elsewhere their shapes' stand-ins: the nodes' count, every rank's);
+        sets ``water_bottoms``, each table's faces' lowest y (every rank's:
+        Westergaard's H)."""
         from vstpetsc.plane.water import WaterRecord, water_record
+
+        from vstpetsc.plane.westergaard import faces_bottom
 
         specs = self.case.plane.waters
         records = [water_record(self.mesh, spec) for spec in specs] if rank0 else None
-        counts = self.comm.tompi4py().bcast(
-            [r.nodes.size for r in records] if rank0 else None, root=0)
+        counts, self.water_bottoms = self.comm.tompi4py().bcast(
+            ([r.nodes.size for r in records], [faces_bottom(self.mesh, s) for s in specs])
+            if rank0 else None, root=0)
         if rank0:
             return records
         return [WaterRecord(spec, np.zeros(m, dtype=int), np.zeros(m), np.zeros(2))
                 for spec, m in zip(specs, counts)]
+
+    def _uplift(self, rank0):
+        """(m, 2) each pair's uplift force p_u L n (vstpetsc.plane.uplift),
+        every rank's; None when no water has uplift (collective)."""
+        from vstpetsc.plane.uplift import uplift_push
+
+        push = None
+        if rank0 and self.pairs is not None:
+            g0 = float(self.case.gravity.g(np.zeros(1))[0])
+            push = uplift_push(self.mesh, self.pairs, self.infos, self.case.plane.waters, g0)
+        return self.comm.tompi4py().bcast(push, root=0)
 
     def _regions(self, names):
         by_name = {r.name: r for r in self.case.plane.regions}
@@ -283,7 +301,7 @@ class PlaneModel:
 
     def matrices(self):
         """(M, C or None, K): this rank's rows (CSR, global columns),
-        assembled once."""
+        assembled once; M with Westergaard's added masses."""
         if self._matrices is None:
             self._matrices = self._assemble()
         return self._matrices
@@ -293,8 +311,23 @@ class PlaneModel:
         copies; at 1e6 cells they are 1.3 GB)."""
         self._matrices = None
 
+    def unit_weight(self):
+        """The nodal pattern of a unit body force along +y on this rank's
+        owned dofs: the rows of the solid's own M (without the water's
+        added masses: they carry no weight)."""
+        self.matrices()
+        return self._unit_weight
+
     def _assemble(self):
+        from vstpetsc.plane.loads import unit_gravity
+        from vstpetsc.plane.westergaard import owned_rows
+
         M, C, K = spatial_matrices(self.local.mesh, self.materials, self.local)
+        self._unit_weight = unit_gravity(M)
+        added = owned_rows(self.local.mesh, self.owned_local, self.first, self.nnodes,
+                           self.case.plane.waters, self.water_bottoms)
+        if added is not None:               # inertia only: not in C = alpha M + beta K
+            M = M + added
         dashpots = self.boundaries.dashpots()
         if dashpots is not None:
             C = dashpots if C is None else C + dashpots

@@ -1,6 +1,7 @@
 """The tables of a plane-strain case (interface.md, "Plane strain (2-D)"):
 [mesh], [[region]], [[boundary]], [[interface]], [[gauge]] with x = [x, y],
-[gravity] along y, and [[water]] (hydrostatic, docs/water.md).  A case
+[gravity] along y, and [[water]] (hydrostatic, uplift, Westergaard:
+docs/water.md).  A case
 with a [mesh] table is 2-D; the 1-D tables are refused in it.  Names of regions and curves are checked against the
 mesh when the model reads it (vstpetsc.plane.model); nothing here reads
 the mesh or imports PETSc."""
@@ -32,10 +33,10 @@ MASSES = ("averaged", "consistent", "lumped")
 MOTIONS = ("incident", "outcrop")
 INTERFACE_KEYS = ("name", "friction", "formulation", "penalty")
 FORMULATIONS = ("power", "seed")
-WATER_KEYS = ("name", "level", "rho", "faces", "hydrodynamic")
+WATER_KEYS = ("name", "level", "rho", "faces", "hydrodynamic", "uplift", "tailwater")
 HYDRODYNAMIC = ("none", "westergaard", "acoustic")
-# the contract's keys of the water that this step does not build yet
-WATER_LATER = ("uplift", "tailwater", "region", "bulk", "far", "bottom")
+# the contract's keys of the water that is not built yet (the acoustic region's)
+WATER_LATER = ("region", "bulk", "far", "bottom")
 
 
 @dataclass
@@ -102,12 +103,17 @@ class InterfaceSpec:
 @dataclass
 class WaterSpec:
     """A [[water]] table: the free surface's y ``level``, the water's
-    ``rho`` and the curves ``faces`` it wets (hydrostatic only)."""
+    ``rho`` and the curves ``faces`` it wets; ``hydrodynamic`` "none" or
+    "westergaard"; ``uplift`` the [[interface]] it enters (None: none)
+    with the ``tailwater`` level at its other end (None: no water there)."""
 
     name: str
     level: float
     rho: float
     faces: tuple
+    hydrodynamic: str = "none"
+    uplift: str | None = None
+    tailwater: float | None = None
 
 
 @dataclass
@@ -162,7 +168,7 @@ def read_rest(chk, doc, parts):
             chk.add(f"region[{i}] ({r.name}).confinement", "needs [gravity] with initial = "
                     "\"static\" (each cell's moduli come from its mean stress there)")
     parts["plane"].waters = read_waters(chk, chk.tables(doc, "water"), parts["gravity"],
-                                        "gravity" in doc)
+                                        "gravity" in doc, _interface_names(doc))
     parts.update(bodies=[], contacts=[], bcs=[], soils=[])
 
 
@@ -433,44 +439,75 @@ def read_interfaces(chk, tables, boundaries):
     return out
 
 
-def read_waters(chk, tables, gravity, given):
+def read_waters(chk, tables, gravity, given, interfaces):
     """The [[water]] tables (docs/water.md): hydrostatic on named faces,
-    which the model checks against the mesh (vstpetsc.plane.water.check).
+    which the model checks against the mesh (vstpetsc.plane.water.check),
+    with Westergaard's added masses and an interface's uplift.
     ``gravity``: the [gravity] read (None: absent or bad, ``given`` says
-    which)."""
+    which); ``interfaces``: the [[interface]] tables' names."""
     out, seen = [], set()
     for i, tbl in enumerate(tables):
         name, where = _named(chk, tbl, "water", i, WATER_KEYS + WATER_LATER, seen,
                              "a second [[water]] named")
-        if not _water_now(chk, tbl, where):
-            continue
+        kind = _water_kind(chk, tbl, where)
         level = chk.number(tbl, "level", where)
         rho = chk.number(tbl, "rho", where, required=False, default=1000.0, positive=True)
         faces = _faces(chk, tbl.get("faces"), f"{where}.faces")
+        uplift = _uplift(chk, tbl, where, interfaces)
         if gravity is None and not given:
             chk.add(where, "needs [gravity] (g along y): the water's weight is what loads "
                     "the dam")
         elif gravity is not None and np.any(gravity.g.f > 0):
             chk.add("gravity.g", f"water {name!r} needs g <= 0 (downward along y) at every "
                     "point of its history")
-        if None not in (name, level, rho, faces):
-            out.append(WaterSpec(name, level, rho, faces))
+        if None not in (name, level, rho, faces, kind, uplift):
+            out.append(WaterSpec(name, level, rho, faces, kind, *uplift))
     return out
 
 
-def _water_now(chk, tbl, where):
-    """Whether a [[water]] table asks only for what this step builds
-    (reported otherwise)."""
+def _interface_names(doc):
+    """The names the [[interface]] tables give (whatever else is wrong
+    with them: that is reported on its own)."""
+    tables = doc.get("interface", [])
+    return [t.get("name") for t in tables if isinstance(t, dict)] \
+        if isinstance(tables, list) else []
+
+
+def _water_kind(chk, tbl, where):
+    """A [[water]] table's hydrodynamic kind, "none" or "westergaard"
+    (None after reporting; the acoustic water is not built yet)."""
     for key in WATER_LATER:
         if key in tbl:
-            chk.add(f"{where}.{key}", "not built yet (hydrostatic water only, docs/water.md)")
-            return False
+            chk.add(f"{where}.{key}", "not built yet (the acoustic water's, docs/water.md)")
+            return None
     kind = chk.string(tbl, "hydrodynamic", where, required=False, default="none",
                       choices=HYDRODYNAMIC)
-    if kind not in (None, "none"):
-        chk.add(f"{where}.hydrodynamic", f"{kind!r} is not built yet (hydrostatic water "
-                "only: \"none\", docs/water.md)")
-    return kind == "none"
+    if kind == "acoustic":
+        chk.add(f"{where}.hydrodynamic", "'acoustic' is not built yet (\"none\" or "
+                "\"westergaard\", docs/water.md)")
+        return None
+    return kind
+
+
+def _uplift(chk, tbl, where, interfaces):
+    """(uplift interface or None, tailwater or None), or None after
+    reporting: an interface that no [[interface]] names, a tailwater
+    without uplift or not a number."""
+    uplift = chk.string(tbl, "uplift", where, required=False)
+    if "uplift" in tbl and uplift is None:
+        return None
+    if uplift is not None and uplift not in interfaces:
+        chk.add(f"{where}.uplift", f"{uplift!r} is not an [[interface]] of the case "
+                f"(interfaces: {', '.join(map(str, interfaces)) or 'none'})")
+        return None
+    if "tailwater" in tbl and uplift is None:
+        chk.add(f"{where}.tailwater", "needs uplift (the interface whose far end the "
+                "tailwater reaches)")
+        return None
+    tailwater = chk.number(tbl, "tailwater", where, required=False)
+    if "tailwater" in tbl and tailwater is None:
+        return None
+    return uplift, tailwater
 
 
 def _faces(chk, val, where):

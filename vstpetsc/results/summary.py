@@ -235,7 +235,8 @@ def interface_summary(result, name):
     slip, gap, length = g.slip[:], g.gap[:], g.length[:]
     xy = result.mesh.coordinates[g.nodes[:][:, 0]]
     time = result.time
-    out = {"name": name, "pairs": int(length.size), "length": float(length.sum())}
+    out = {"name": name, "pairs": int(length.size), "length": float(length.sum()),
+           "safety": sliding_safety(g, time)}
     if not slip.size:
         return {**out, "slip": None}
     i, j = np.unravel_index(np.abs(slip).argmax(), slip.shape)
@@ -248,6 +249,27 @@ def interface_summary(result, name):
             "permanent": (float(last[k]), *map(float, xy[k])),
             "opening": (float(gap[m, p]), *map(float, xy[p]), float(time[m])),
             "open": (float(opened[n]), float(time[n]))}
+
+
+ROUNDING = 1e-12       # a sum of pairs' shear forces that is zero, against the sum of |N|
+
+
+def sliding_safety(g, time):
+    """(mu sum(N) / |sum(T)|, sum(N), sum(T), its time) of an interface
+    with friction (None without, or with no kept row after t = 0): its
+    pairs' normal_force and shear_force at the first kept row after
+    t = 0 (row 0 holds no slab's forces), the mean forces of the first
+    kept slab: after a static start at rest, the static state's to
+    rounding; inf when sum(T) is 0 to rounding (below ROUNDING of the sum
+    of |N|: a dry block at rest on its joint sums its pairs' shear to
+    1e-9 N against 5e6 N)."""
+    mu = float(g.attrs.get("friction", -1.0))
+    if mu < 0 or time.size < 2:
+        return None
+    normal, shear = float(g.normal_force[1].sum()), float(g.shear_force[1].sum())
+    rounding = ROUNDING * float(np.abs(g.normal_force[1]).sum())
+    factor = mu * normal / abs(shear) if abs(shear) > rounding else float("inf")
+    return factor, normal, shear, float(time[1])
 
 
 def water_summary(result, name):
@@ -383,6 +405,26 @@ def slip_lines(p):
             f"(largest |slip| {p['slip_max']:.6g})"]
 
 
+def interface_lines(i):
+    """`info`'s lines of a plane-strain interface below its name: its
+    largest slip and opening, then its sliding factor of safety."""
+    lines = []
+    if i["slip"] is not None:
+        v, x, y, t = i["slip"]
+        lines.append(f"    largest slip {v:.4g} at ({x:.6g}, {y:.6g}), t = {t:.6g}; permanent "
+                     f"{i['permanent'][0]:.4g} at ({i['permanent'][1]:.6g}, "
+                     f"{i['permanent'][2]:.6g})")
+        v, x, y, t = i["opening"]
+        lines.append(f"    largest opening {v:.4g} at ({x:.6g}, {y:.6g}), t = {t:.6g}; largest "
+                     f"length open {i['open'][0]:.6g} at t = {i['open'][1]:.6g}")
+    if i.get("safety") is not None:
+        factor, normal, shear, t = i["safety"]
+        lines.append(f"    sliding factor of safety mu sum(N) / |sum(T)| {factor:.6g} (sum N "
+                     f"{normal:.6g}, sum T {shear:.6g} at t = {t:.6g}, the first kept slab's "
+                     "forces)")
+    return lines
+
+
 def plane_lines(p):
     """The plane-strain lines of `vstpetsc info`."""
     lines = [f"  plane strain: {p['cells']} cells ({p['triangles']} triangles), {p['nodes']} "
@@ -403,15 +445,7 @@ def plane_lines(p):
                      else f"    no tension: the largest principal stress {value:.6g} {where}")
     for i in p.get("interfaces", ()):
         lines.append(f"  interface {i['name']}: {i['pairs']} node pairs, length {i['length']:.6g}")
-        if i["slip"] is None:
-            continue
-        v, x, y, t = i["slip"]
-        lines.append(f"    largest slip {v:.4g} at ({x:.6g}, {y:.6g}), t = {t:.6g}; permanent "
-                     f"{i['permanent'][0]:.4g} at ({i['permanent'][1]:.6g}, "
-                     f"{i['permanent'][2]:.6g})")
-        v, x, y, t = i["opening"]
-        lines.append(f"    largest opening {v:.4g} at ({x:.6g}, {y:.6g}), t = {t:.6g}; largest "
-                     f"length open {i['open'][0]:.6g} at t = {i['open'][1]:.6g}")
+        lines += interface_lines(i)
     for w in p.get("waters", ()):
         line = f"  water {w['name']}: {w['nodes']} wetted nodes"
         if w["force"] is not None:

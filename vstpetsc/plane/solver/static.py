@@ -1,7 +1,7 @@
 """The static start of a plane-strain run under gravity ([gravity]
 initial = "static", as in 1-D: docs/loads.md): K u = f, f the weight at
-g(0) with the water's pressure (docs/water.md) and the tractions constant
-in time, with every held dof and every node of an absorbing curve held,
+g(0) with the water's pressure (docs/water.md), the tractions constant
+in time and the uplift in interfaces (constant, vstpetsc.plane.uplift), with every held dof and every node of an absorbing curve held,
 solved once; the run then starts from rest in u with the absorbing
 nodes' reactions K u - f kept as constant forces (interfaces: each pair closed or open, sticking or sliding at mu
 N, settled by repeated solves, vstpetsc.plane.pairs), so that (u, 0) is
@@ -139,7 +139,9 @@ def static_state(model, gravity_pattern):
     g0 = float(model.case.gravity.g(np.array([0.0]))[0])
     held_here = np.union1d(bounds.held_dofs()[0], bounds.absorbing_dofs())
     held = comm.tompi4py().gather(_original_dofs(model, held_here), root=0)
-    carried = bounds.constant_loads()
+    from vstpetsc.plane.loads import uplift_pattern
+
+    carried = bounds.constant_loads() + uplift_pattern(model)
     loaded = np.flatnonzero(carried)
     carried_all = comm.tompi4py().gather((_original_dofs(model, loaded), carried[loaded]),
                                          root=0)
