@@ -235,7 +235,8 @@ class PlaneModel:
         from vstpetsc.plane.uplift import uplift_push
 
         push = None
-        if rank0 and self.pairs is not None:
+        # water needs [gravity] (the schema's check): without water, no uplift
+        if rank0 and self.pairs is not None and self.case.plane.waters:
             g0 = float(self.case.gravity.g(np.zeros(1))[0])
             push = uplift_push(self.mesh, self.pairs, self.infos, self.case.plane.waters, g0)
         return self.comm.tompi4py().bcast(push, root=0)
