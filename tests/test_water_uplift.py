@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import vstpetsc
-from agreement import datasets
 from test_plane_run import mpirun_against_one_rank, run_cli
+from test_water_hydrostatic import restarted_as_whole
 from test_water_hydrostatic import B, D, G, H, LEVEL, RHO, RHO_W, THRUST, WEIGHT, block_case
 
 TAIL = 4.0                                          # the tailwater's level (y)
@@ -137,16 +137,8 @@ def test_uplift_on_two_ranks_equals_one(tmp_path):
 
 
 def test_a_restart_with_uplift_continues_bit_for_bit(tmp_path):
-    whole = run(sliding_case(tmp_path, 0.29, end=0.1), tmp_path, "whole")
-    part = str(tmp_path / "part.h5")
-    for end, restart in ((0.05, False), (0.1, True)):
-        vstpetsc.run(vstpetsc.Case.from_toml(sliding_case(tmp_path, 0.29, end=end, name="half")),
-                     output=part, quiet=True, restart=restart, out=io.StringIO())
-    a, b = datasets(whole.path), datasets(part)
-    assert set(a) == set(b)
-    for key in a:
-        if key != "solver/wall_time":
-            assert np.array_equal(a[key], b[key]), key
+    restarted_as_whole(
+        tmp_path, lambda end, name: sliding_case(tmp_path, 0.29, end=end, name=name), 0.1)
 
 
 def test_info_prints_the_sliding_factor_of_safety(tmp_path):

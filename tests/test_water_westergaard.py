@@ -12,9 +12,9 @@ import io
 import numpy as np
 
 import vstpetsc
-from agreement import datasets
 from test_plane_run import mpirun_against_one_rank
-from test_water_hydrostatic import B, D, G, H, LEVEL, RHO, RHO_W, THRUST, WEIGHT, block_case
+from test_water_hydrostatic import B, D, H, RHO, RHO_W, THRUST, WEIGHT, block_case
+from test_water_hydrostatic import restarted_as_whole
 
 A, RISE, DT = 0.5, 0.2, 1e-3        # the foundation's acceleration, its rise time, the step
 STIFF = 2.0e12                      # the stiff dam's E: its lowest period about 5e-3 s
@@ -171,13 +171,5 @@ def test_westergaard_on_two_ranks_equals_one(tmp_path):
 
 
 def test_a_restart_with_westergaard_continues_bit_for_bit(tmp_path):
-    whole = run(shaken_case(tmp_path, "whole", True, end=0.05), tmp_path, "whole")
-    part = str(tmp_path / "part.h5")
-    for end, restart in ((0.025, False), (0.05, True)):
-        vstpetsc.run(vstpetsc.Case.from_toml(shaken_case(tmp_path, "half", True, end=end)),
-                     output=part, quiet=True, restart=restart, out=io.StringIO())
-    a, b = datasets(whole.path), datasets(part)
-    assert set(a) == set(b)
-    for key in a:
-        if key != "solver/wall_time":
-            assert np.array_equal(a[key], b[key]), key
+    restarted_as_whole(tmp_path, lambda end, name: shaken_case(tmp_path, name, True, end=end),
+                       0.05)

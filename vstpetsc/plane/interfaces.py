@@ -22,6 +22,7 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from vstpetsc.plane.boundaries import edge_frames
 from vstpetsc.plane.curves import edge_cells
+from vstpetsc.plane.edge_graph import edge_graph
 from vstpetsc.plane.mesh import PlaneMesh
 
 LEVEL = 1e-9        # ends at one height, against the curve's extent
@@ -168,17 +169,12 @@ def oriented(x, edges):
     counter-clockwise.  The direction a mesh file's edges come in is the
     reader's (DMPlex takes each edge from the first cell that holds it),
     so it tells nothing; the second side is then the left of this one."""
-    nodes, local = np.unique(edges, return_inverse=True)
-    local = local.reshape(edges.shape)
-    graph = sp.coo_matrix((np.ones(len(edges)), (local[:, 0], local[:, 1])),
-                          shape=(nodes.size, nodes.size)).tocsr()
-    count, piece = connected_components(graph, directed=False)
-    degree = np.bincount(local.ravel(), minlength=nodes.size)
+    g = edge_graph(edges)
+    nodes, local, piece = g.nodes, g.local, g.piece
     extent = float(np.ptp(x[nodes], axis=0).max(initial=0.0))
     out = local.copy()
-    for k in range(count):                      # a curve's pieces: one, or a few
-        members = np.flatnonzero(piece == k)
-        ends = members[degree[members] == 1]
+    for k in range(g.count):                    # a curve's pieces: one, or a few
+        members, ends = g.members(k)
         mine = piece[local[:, 0]] == k
         out[mine] = _piece_oriented(x[nodes], local[mine], ends if ends.size else members,
                                     closed=not ends.size, level=LEVEL * extent)

@@ -14,11 +14,11 @@ g(t) in the static start and in the run.  Pure numpy and scipy."""
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order, connected_components
+from scipy.sparse.csgraph import breadth_first_order
 
 from vstpetsc.plane.boundaries import edge_frames
 from vstpetsc.plane.curves import edge_cells
+from vstpetsc.plane.edge_graph import edge_graph
 
 GAUSS = np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)])   # on [0, 1], weights 1/2
 
@@ -107,17 +107,12 @@ def chain(x, edges):
     """The nodes of edges (m, 2) in order along each connected piece, from
     an end (the lowest, then leftmost; a closed piece from its lowest
     node), pieces by their starts' order of (y, x)."""
-    nodes, local = np.unique(edges, return_inverse=True)
-    local = local.reshape(edges.shape)
-    graph = sp.coo_matrix((np.ones(len(local)), (local[:, 0], local[:, 1])),
-                          shape=(nodes.size, nodes.size)).tocsr()
-    count, piece = connected_components(graph, directed=False)
-    degree = np.bincount(local.ravel(), minlength=nodes.size)
+    g = edge_graph(edges)
+    nodes, graph = g.nodes, g.graph
     xy = x[nodes]
     starts = []
-    for k in range(count):                      # a face's pieces: one, or a few
-        members = np.flatnonzero(piece == k)
-        ends = members[degree[members] == 1]
+    for k in range(g.count):                    # a face's pieces: one, or a few
+        members, ends = g.members(k)
         candidates = ends if ends.size else members
         starts.append(candidates[np.lexsort((xy[candidates, 0], xy[candidates, 1]))[0]])
     starts = np.array(starts, dtype=int)
