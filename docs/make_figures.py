@@ -494,6 +494,24 @@ def _gravity_dam(f, result):
             "![gravity-dam interfaces](figures/gravity-dam-interfaces.png)")
 
 
+def _gravity_dam_reservoir(f, result):
+    """Key numbers of gravity-dam-reservoir: the static sliding factor of
+    safety (info's: mu sum(N) / |sum(T)| at the first kept slab) and the
+    largest slip, with the water's resultant."""
+    g = result.interface("contact")
+    mu = result.case().plane.interfaces[0].friction
+    normal, shear = g.normal_force[1].sum(), g.shear_force[1].sum()
+    slip, nodes, u = g.slip[:], g.nodes[:], result.field.u[-1]
+    moved = np.einsum("mc,mc->m", g.tangent[:], u[nodes[:, 1]] - u[nodes[:, 0]])
+    force = result.water("reservoir").force[0]
+    return (f"the reservoir pushes ({force[0] / 1e6:.2f}, {force[1] / 1e6:.2f}) MN per m; the "
+            f"base carries sum N {normal / 1e6:.2f} MN per m (W - U plus the water above the "
+            f"face) and sum T {abs(shear) / 1e6:.2f} MN per m at rest: sliding factor of safety "
+            f"mu sum(N) / |sum(T)| {mu * normal / abs(shear):.3g}; largest slip in contact "
+            f"{1e3 * np.abs(slip).max():.1f} mm, the dam moved {1e3 * moved.mean():.1f} mm "
+            f"along its base relative to the rock (gravity-dam, dry: about 13 mm); friction "
+            f"dissipated {f['energy/friction'][-1] / 1e3:.1f} kJ per m")
+
 def _rockfill_dam(f, result):
     """Key numbers and the interface figure of rockfill-dam."""
     _interface_figure(result, "rockfill-dam", "rockfill-dam: each interface's slip and "
@@ -613,10 +631,11 @@ KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "dam-interface": _dam_interface, "nonlinear-site": _nonlinear_site,
        "rockfill-column": _rockfill_column, "plane-column": _plane_column,
        "dam-modes": _dam_modes, "lamb": _lamb, "gravity-dam": _gravity_dam,
+       "gravity-dam-reservoir": _gravity_dam_reservoir,
        "rockfill-dam": _rockfill_dam, "rockfill-dam-mkz": _rockfill_dam_mkz}
 NEEDS_RESULT = {"rockfill-dam-mkz", "nonlinear-site", "site-response", "uplift", "drop", "pile", "bouncing-bar",
                 "sliding-block", "dam-interface", "rockfill-column", "plane-column",
-                "dam-modes", "lamb", "gravity-dam", "rockfill-dam"}
+                "dam-modes", "lamb", "gravity-dam", "gravity-dam-reservoir", "rockfill-dam"}
 
 
 def main(only=None):

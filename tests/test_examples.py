@@ -717,6 +717,52 @@ def test_gravity_dam_slides_rocks_and_compares_with_a_rigid_block(results):
     assert 0 <= e["numerical"][-1] <= 1e-4 * e["external"][-1]
 
 
+def test_gravity_dam_reservoir_rests_on_w_minus_u_and_slides_further(results):
+    """gravity-dam-reservoir: from the static start the base joint carries
+    the dam's weight W plus the water's above the upstream face minus the
+    uplift U, and the thrust (closed forms); `vstpetsc info`'s sliding
+    factor of safety is mu (W - U) / thrust from the file's first kept
+    slab (sum normal_force, sum shear_force), about 1.44; shaken as the
+    dry gravity-dam (same records and end), the dam slides further; the
+    laws hold pair by pair, the balance closes."""
+    r, dry = results["gravity-dam-reservoir"], results["gravity-dam"]
+    case = r.case()
+    water, mu = case.plane.waters[0], case.plane.interfaces[0].friction
+    g, rho_w, level = -case.gravity.g(0.0), water.rho, water.level
+    H, c, u, d = 40.0, 8.0, 0.1, 0.8
+    base = c + (u + d) * H
+    weight = (c + base) / 2 * H * 2400.0 * g + rho_w * g * u * level ** 2 / 2
+    lift = rho_w * g * level / 2 * base                 # tailwater 0 at the toe (y = 0)
+    thrust = rho_w * g * level ** 2 / 2
+    joint = r.interface("contact")
+    N, T = joint.normal_force[1].sum(), joint.shear_force[1].sum()
+    assert N == pytest.approx(weight - lift, rel=1e-6)
+    assert abs(T) == pytest.approx(thrust, rel=1e-6)
+    p = cli("info", r.path)
+    assert p.returncode == 0, p.stderr
+    line = [x for x in p.stdout.splitlines() if "sliding factor of safety" in x]
+    factor = mu * N / abs(T)
+    assert line and f"mu sum(N) / |sum(T)| {factor:.6g} " in line[0], p.stdout
+    assert 1.3 < factor < 1.6
+    interface_laws_hold(r, "contact", mu)
+
+    def moved(res):
+        j, uu = res.interface("contact"), res.field.u[-1]
+        nodes = j.nodes[:]
+        return np.einsum("mc,mc->m", j.tangent[:], uu[nodes[:, 1]] - uu[nodes[:, 0]]).mean()
+
+    wet, dried = moved(r), moved(dry)
+    slip, dry_slip = np.abs(joint.slip[:]).max(), np.abs(dry.interface("contact").slip[:]).max()
+    e = r.energy
+    largest = max(np.abs(e[k]).max() for k in ("kinetic", "strain", "external"))
+    print(f"gravity-dam-reservoir: factor of safety {factor:.6g}, displaced {wet:.4g} "
+          f"(dry {dried:.4g}), largest slip {slip:.4g} (dry {dry_slip:.4g}), numerical "
+          f"{e['numerical'][-1] / largest:.3g}")
+    assert abs(wet) > 3 * abs(dried) and slip > 3 * dry_slip
+    assert e["friction"][-1] > 0
+    assert 0 <= e["numerical"][-1] <= 1e-4 * largest and e["numerical"].min() >= -1e-9 * largest
+
+
 def test_rockfill_dam_zones_slide_on_each_other(results):
     """rockfill-dam (shortened to 2.6 s): the core slides against a shell
     and opens near the crest; the laws hold on every interface; the

@@ -88,3 +88,49 @@ def test_the_assembly_takes_the_mixed_mesh():
 def test_a_base_wider_than_the_foundation_is_refused():
     with pytest.raises(ValueError, match="wider than its foundation"):
         dam_mesh(**{**DAM, "foundation_width": 100.0})
+
+
+def test_the_faces_parts_are_the_slopes_crest_and_ground(dam):
+    """"upstream" and "downstream" hold exactly the slopes' edges (both
+    ends on the slope's line y = (x - x_a) / u, y = (x_b - x) / d, 0 <= y
+    <= H), "crest" the edges at y = H, "top_left" and "top_right" the
+    foundation's top left of the heel and right of the toe; disjoint, and
+    their union is "faces"."""
+    H, c, u, d = DAM["height"], DAM["crest"], DAM["upstream"], DAM["downstream"]
+    xa, xb = -(c / 2 + u * H), c / 2 + d * H
+    xy = dam.coordinates
+    on = {"upstream": lambda x, y: np.isclose(x, xa + u * y, atol=1e-9) & (y >= -1e-9) & (y <= H + 1e-9),
+          "downstream": lambda x, y: np.isclose(x, xb - d * y, atol=1e-9) & (y >= -1e-9) & (y <= H + 1e-9),
+          "crest": lambda x, y: np.isclose(y, H) & (abs(x) <= c / 2 + 1e-9),
+          "top_left": lambda x, y: np.isclose(y, 0.0) & (x <= xa + 1e-9),
+          "top_right": lambda x, y: np.isclose(y, 0.0) & (x >= xb - 1e-9)}
+    faces = {tuple(sorted(e)) for e in dam.curves["faces"].tolist()}
+    union = set()
+    for name, line in on.items():
+        mine = {tuple(sorted(e)) for e in dam.curves[name].tolist()}
+        assert len(mine) == len(dam.curves[name]) and mine, name
+        # exactly the faces' edges with both ends on the part's line
+        expected = {e for e in faces if line(*xy[list(e)].T).all()}
+        assert mine == expected, name
+        assert not mine & union, name
+        union |= mine
+    assert union == faces
+    assert length(dam, dam.curves["upstream"]) == pytest.approx(H * math.hypot(u, 1.0), rel=1e-12)
+    assert length(dam, dam.curves["downstream"]) == pytest.approx(H * math.hypot(d, 1.0), rel=1e-12)
+    assert length(dam, dam.curves["crest"]) == pytest.approx(c, rel=1e-12)
+    assert length(dam, dam.curves["top_left"]) == pytest.approx(150.0 + xa, rel=1e-12)
+    assert length(dam, dam.curves["top_right"]) == pytest.approx(150.0 - xb, rel=1e-12)
+
+
+def test_water_refuses_faces_that_share_an_edge(dam):
+    """"faces" holds "upstream": a [[water]] naming both would load the
+    slope twice (vstpetsc.plane.water.check names the pair)."""
+    from types import SimpleNamespace
+    from vstpetsc.plane import water
+
+    spec = lambda faces: SimpleNamespace(name="reservoir", level=30.0, faces=faces)
+    assert water.check([spec(("upstream",))], dam) is None
+    assert water.check([spec(("upstream", "downstream", "top_left"))], dam) is None
+    problem = water.check([spec(("faces", "upstream"))], dam)
+    assert problem.startswith("water[0] (reservoir).faces: 'faces' and 'upstream' share the "
+                              "edge at ("), problem

@@ -13,7 +13,11 @@ columns meet the dam's base corners; the dam in triangles, row by row
 as the section narrows): two rows are joined by walking both at once in
 the order of their nodes' x (each step one triangle).  Regions "dam", "foundation"; curves "base", "left", "right"
 (the foundation's), "faces" (the dam's slopes and crest and the
-foundation's top beside it) and "contact" (the dam's base)."""
+foundation's top beside it), "contact" (the dam's base), and the parts
+of "faces" each alone (their edges also in "faces"): "upstream" and
+"downstream" (the dam's slopes, heel to crest and toe to crest),
+"crest", "top_left" and "top_right" (the foundation's top left of the
+heel and right of the toe)."""
 
 import math
 
@@ -94,7 +98,10 @@ def _curves(fnode, rows, in_base):
     first, last = np.flatnonzero(in_base)[[0, -1]]
     upstream = np.array([r[0] for r in rows])
     downstream = np.array([r[-1] for r in rows])
-    faces = np.concatenate([edges(top[:first + 1]), edges(top[last:]), edges(upstream),
-                            edges(downstream), edges(rows[-1])])
+    parts = {"top_left": edges(top[:first + 1]), "upstream": edges(upstream),
+             "crest": edges(rows[-1]), "downstream": edges(downstream),
+             "top_right": edges(top[last:])}
+    # "faces" the union (an edge may lie on two curves: each is its own label)
     return {"base": edges(fnode[0]), "left": edges(fnode[:, 0]), "right": edges(fnode[:, -1]),
-            "faces": faces, "contact": edges(top[first:last + 1])}
+            "faces": np.concatenate(list(parts.values())), "contact": edges(top[first:last + 1]),
+            **parts}

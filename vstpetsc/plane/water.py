@@ -160,8 +160,10 @@ def water_record(mesh, spec):
 def check(specs, mesh):
     """The problem of the water tables against the (unsplit) mesh, as one
     line naming the key, or None: a face that is not a curve of the mesh
-    or not on its outer boundary (an edge of one cell), a level at or
-    below every face's lowest point (no water on the dam)."""
+    or not on its outer boundary (an edge of one cell), two faces that
+    share an edge (curves may overlap: the generated dam's "faces" holds
+    its "upstream"), a level at or below every face's lowest point (no
+    water on the dam)."""
     _, a, b = mesh.edges()
     keys, counts = np.unique(mesh.edge_keys(a, b), return_counts=True)
     for i, spec in enumerate(specs):
@@ -177,9 +179,26 @@ def check(specs, mesh):
                 x, y = mesh.coordinates[edges[inner][0]].mean(axis=0)
                 return (f"{where}.faces: {name!r} runs between two cells at ({x:g}, {y:g}): "
                         "water wets the outer boundary of the solid")
+        shared = _shared_edge(mesh, spec.faces)
+        if shared:
+            (a, b), (x, y) = shared
+            return (f"{where}.faces: {a!r} and {b!r} share the edge at ({x:g}, {y:g}): the "
+                    "water would load it twice (name each wetted edge once)")
         lowest = min(float(mesh.coordinates[mesh.curves[n], 1].min(initial=np.inf))
                      for n in spec.faces)
         if not spec.level > lowest:
             return (f"{where}.level: {spec.level:g} is not above the faces' lowest point "
                     f"(y = {lowest:g}): the water wets nothing")
+    return None
+
+
+def _shared_edge(mesh, names):
+    """((first name, second name), an edge's midpoint) of two of the curves
+    ``names`` that share an edge, or None."""
+    seen = {}
+    for name in names:
+        edges = mesh.curves[name]
+        for key, edge in zip(mesh.edge_keys(edges[:, 0], edges[:, 1]).tolist(), edges):
+            if seen.setdefault(key, name) != name:
+                return (seen[key], name), tuple(mesh.coordinates[edge].mean(axis=0))
     return None
