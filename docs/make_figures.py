@@ -594,11 +594,12 @@ def _rockfill_dam_mkz(f, result):
         slip.set_title("(c) the joints' slip", fontsize=10)
         slip.legend(fontsize=7)
         e = result.energy
-        for key in ("kinetic", "strain", "damping", "friction", "hysteretic", "numerical"):
+        for key in ("kinetic", "strain", "friction", "hysteretic", "numerical"):
             energy.plot(t, e[key] / 1e3, label=key)
         energy.set_xlabel("t [s]")
         energy.set_ylabel("kJ per m")
-        energy.set_title("(d) the energy", fontsize=10)
+        energy.set_title(f"(d) the energy (damping and the absorbing base: "
+                         f"{e['damping'][-1] / 1e6:.0f} MJ per m at the end)", fontsize=10)
         energy.legend(fontsize=8)
         fig.savefig(os.path.join(HERE, "figures", "rockfill-dam-mkz-response.png"), dpi=110)
         plt.close(fig)
