@@ -509,8 +509,9 @@ def _gravity_dam_reservoir(f, result):
             f"face) and sum T {abs(shear) / 1e6:.2f} MN per m at rest: sliding factor of safety "
             f"mu sum(N) / |sum(T)| {mu * normal / abs(shear):.3g}; largest slip in contact "
             f"{1e3 * np.abs(slip).max():.1f} mm, the dam moved {1e3 * moved.mean():.1f} mm "
-            f"along its base relative to the rock (gravity-dam, dry: about 13 mm); friction "
-            f"dissipated {f['energy/friction'][-1] / 1e3:.1f} kJ per m")
+            f"along its base relative to the rock (the dry dam: gravity-dam's section); "
+            f"friction dissipated {f['energy/friction'][-1] / 1e3:.1f} kJ per m")
+
 
 def _rockfill_dam(f, result):
     """Key numbers and the interface figure of rockfill-dam."""
