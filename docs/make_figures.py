@@ -599,8 +599,8 @@ def _rockfill_dam_mkz(f, result):
             energy.plot(t, e[key] / 1e3, label=key)
         energy.set_xlabel("t [s]")
         energy.set_ylabel("kJ per m")
-        energy.set_title(f"(d) the energy (damping and the absorbing base: "
-                         f"{e['damping'][-1] / 1e6:.0f} MJ per m at the end)", fontsize=10)
+        energy.set_title(f"(d) the energy (damped and absorbed, not drawn: "
+                         f"{e['damping'][-1] / 1e6:.0f} MJ/m)", fontsize=10)
         energy.legend(fontsize=8)
         fig.savefig(os.path.join(HERE, "figures", "rockfill-dam-mkz-response.png"), dpi=110)
         plt.close(fig)
