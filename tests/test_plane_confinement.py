@@ -93,6 +93,19 @@ def test_moduli_follow_the_closed_form_mean_stress(tmp_path):
     assert np.allclose(gamma_ref[order], MKZ["gamma_ref"] * factor, rtol=1e-12, atol=0)
 
 
+def test_the_run_header_states_the_confined_moduli(tmp_path):
+    """The header's region line gives the range of its cells' factors
+    (the closed form's, at the cell centres) and of their speeds'."""
+    p = run_cli("run", write(tmp_path, column_doc(end=0.01)), "-o", tmp_path / "r.h5")
+    assert p.returncode == 0, p.stderr
+    line = next(x for x in p.stdout.splitlines() if x.startswith("  region domain"))
+    factor = closed_form()[4]
+    assert (f"confined: moduli times {factor.min():.3g} to {factor.max():.3g} (speeds times "
+            f"{np.sqrt(factor.min()):.3g} to {np.sqrt(factor.max()):.3g})") in line, line
+    dry = run_cli("run", write(tmp_path, column_doc(end=0.01)), "--dry-run")
+    assert "confined: moduli scaled by the static start's mean stress" in dry.stdout, dry.stdout
+
+
 @pytest.mark.parametrize("law", [None, MKZ])
 def test_the_static_start_is_the_closed_form_and_stays_at_rest(tmp_path, law):
     """(A yielding cell's /field/stress is its points', whose strains count

@@ -103,11 +103,13 @@ def split_interfaces(case, mesh):
     return mesh, (infos, arrays)
 
 
-def summary(case, output, mesh=None, infos=None):
+def summary(case, output, mesh=None, infos=None, factors=None):
     """What a run of ``case`` solves (the run's header, and `vstpetsc run
     --dry-run`, which reads and checks the mesh here: InputError as a run
-    would raise it): its size, each region's speeds and Courant number,
-    its boundaries and interfaces."""
+    would raise it): its size, each region's speeds and Courant number
+    (a confined region's as given at p_ref, and the range of its cells'
+    moduli factors when ``factors``, one per cell, are known), its
+    boundaries and interfaces."""
     if mesh is None:
         mesh = read_mesh(case.plane.mesh)
         check_names(case, mesh)
@@ -121,7 +123,8 @@ def summary(case, output, mesh=None, infos=None):
     for r in case.plane.regions:
         h = size[mesh.region == mesh.region_names.index(r.name)]
         lines.append(f"  region {r.name}: Vp = {r.vp:.6g}, Vs = {r.vs:.6g}, rho = {r.rho:g}, "
-                     f"Vp dt / h up to {r.vp * case.dt / h.min():.3g}")
+                     f"Vp dt / h up to {r.vp * case.dt / h.min():.3g}"
+                     + confined_note(r, mesh, factors))
     lines += [f"  boundary {b.name}: {b.type}" + (", incident wave" if b.incident else "")
               for b in case.plane.boundaries]
     lines += [interface_line(i) for i in infos or ()]
@@ -142,6 +145,19 @@ def water_lines(case, mesh):
                    f"{', '.join(spec.faces)}; hydrostatic resultant at t = 0 "
                    f"({force[0]:.6g}, {force[1]:.6g}) per unit thickness")
     return out
+
+
+def confined_note(region, mesh, factors):
+    """The header's note on a confined region: its cells' moduli factors
+    (p / p_ref)^exponent from the static start, min to max (the speeds
+    scale by their square roots); empty for an unconfined region."""
+    if region.confinement is None:
+        return ""
+    if factors is None:
+        return "; confined: moduli scaled by the static start's mean stress"
+    f = factors[mesh.region == mesh.region_names.index(region.name)]
+    return (f"; confined: moduli times {f.min():.3g} to {f.max():.3g} (speeds times "
+            f"{np.sqrt(f.min()):.3g} to {np.sqrt(f.max()):.3g})")
 
 
 def interface_line(info):

@@ -32,7 +32,7 @@ def run_parts(case, comm):
 def describe(case, model, output):
     """The model summary (printed on rank 0, which holds the whole mesh)."""
     from vstpetsc.plane.model import summary
-    return summary(case, output, model.mesh, model.infos)
+    return summary(case, output, model.mesh, model.infos, getattr(model, "factors", None))
 
 
 def dry_run(case, output):
