@@ -95,6 +95,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/plane_interfaces.py
 	$(PY) bench/plane_yielding.py
 	$(PY) bench/plane_yielding_opensees.py
+	$(PY) bench/plane_water.py
 	$(PY) bench/blas_threads.py
 	$(PY) bench/sweep_speed.py
 	$(PY) bench/pile_speed.py

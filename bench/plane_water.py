@@ -1,0 +1,101 @@
+"""Water on a dam (issue 47): what a reservoir costs per slab against the
+dry dam (the goal: Westergaard at most 1.05 times the dry dam per slab).
+
+The gravity dam of bench/plane_interfaces.py (the generated section: a
+40 m concrete dam on a 40 m foundation, cells of about H_CELL, its base
+an interface "contact" with friction FRICTION that sticks) shaken through
+its absorbing base, gravity with a static start; dry, with a [[water]]
+on its curve "upstream" at LEVEL (hydrodynamic "none": the hydrostatic
+pressure only), with Westergaard's added masses, and with those and the
+uplift in "contact" (docs/water.md).  One rank, the run's own slab loop
+after WARM slabs (bench/plane_interfaces.py's harness); min / median of
+REPEATS batches of BATCH slabs, the variants interleaved in one process;
+the ratio of medians to the dry dam's.
+
+    .venv/bin/python bench/plane_water.py [--quick]
+"""
+
+import json
+import os
+import statistics
+import sys
+
+import plane_interfaces as harness
+import vstpetsc
+
+H_CELL, REPEATS, WARM = 1.0, 5, 60
+FRICTION = 10.0        # the base sticks (as plane_interfaces.py's "sticking")
+LEVEL = 36.0           # the reservoir's surface (the dam is 40 m high)
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def wet_dam(h, hydrodynamic=None, uplift=False):
+    """The dam of harness.dam_case, dry (``hydrodynamic`` None) or with
+    its reservoir on "upstream"."""
+    doc = dict(harness.dam_case(FRICTION, h).doc)
+    if hydrodynamic is not None:
+        water = {"name": "reservoir", "level": LEVEL, "rho": 1000.0, "faces": ["upstream"],
+                 "hydrodynamic": hydrodynamic}
+        if uplift:
+            water["uplift"] = "contact"
+        doc["water"] = [water]
+    return vstpetsc.Case.from_dict(doc)
+
+
+def measure(h, repeats):
+    variants = {"dry": harness.build(wet_dam(h)),
+                "hydrostatic": harness.build(wet_dam(h, "none")),
+                "westergaard": harness.build(wet_dam(h, "westergaard")),
+                "westergaard + uplift": harness.build(wet_dam(h, "westergaard", True))}
+    times = {name: [] for name in variants}
+    for _ in range(repeats):
+        for name, part in variants.items():
+            times[name].append(harness.batch(part))
+    base = statistics.median(times["dry"])
+    out = {"cells": variants["dry"][3].ncells}
+    for name, t in times.items():
+        out[name] = {"min_ms": 1e3 * min(t), "median_ms": 1e3 * statistics.median(t),
+                     "ratio_median": statistics.median(t) / base}
+    return out
+
+
+def main(argv):
+    quick = "--quick" in argv
+    harness.WARM = WARM
+    if quick:
+        harness.BATCH = 3
+    out = measure(4.0 if quick else H_CELL, 2 if quick else REPEATS)
+    print(f"{out['cells']} cells; ms per slab (min / median), ratio of medians to dry:")
+    for name, row in out.items():
+        if isinstance(row, dict):
+            print(f"  {name:24s} {row['min_ms']:8.2f} / {row['median_ms']:8.2f}  "
+                  f"x {row['ratio_median']:.3f}")
+    if not quick:
+        with open(os.path.join(HERE, "plane_water.json"), "w") as f:
+            json.dump(out, f, indent=1)
+        from readme import write_readme
+        write_readme(os.path.join(HERE, "README.md"), section(out))
+
+
+def section(out):
+    """The README's section of the measured ``out``."""
+    lines = ["## Water on a dam: cost per slab (issue 47)", "",
+             f"bench/plane_water.py: the 40 m concrete gravity dam of bench/plane_interfaces.py "
+             f"on its foundation, {out['cells']} cells, its base an interface that sticks "
+             f"(friction {FRICTION:g}), static start, shaken through its absorbing base; "
+             f"dry, or with a reservoir on its upstream face at {LEVEL:g} m (hydrostatic "
+             "only, with Westergaard's added masses, and with those and the uplift in the "
+             f"base interface); after {WARM} slabs of 2 ms, {REPEATS} batches of "
+             f"{harness.BATCH} slabs each, the variants interleaved (one rank; ms per slab; "
+             "the goal: Westergaard at most 1.05 times the dry dam).", "",
+             "| variant | min ms | median ms | median / dry |",
+             "|---|---|---|---|"]
+    for name, row in out.items():
+        if isinstance(row, dict):
+            lines.append(f"| {name} | {row['min_ms']:.1f} | {row['median_ms']:.1f} | "
+                         f"{row['ratio_median']:.3f} |")
+    return "\n".join(lines) + "\n"
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
