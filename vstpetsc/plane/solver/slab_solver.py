@@ -18,7 +18,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.spacetime import slab
-from vstpetsc.errors import SolveFailed
+from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.native import library
 from vstpetsc.petsc.ranks import Ranks
 from vstpetsc.plane.assembly import identity_rows
@@ -283,8 +283,18 @@ class PlaneRestart:
 
     def restore(self, state):
         zone = self.solver.zone
-        if zone is not None and self.solver.comm.getRank() == 0:
-            zone.restore(state[layout.SOIL_STATE])
+        if zone is not None:
+            # rank 0 holds the zone; its refusal of the file is every rank's
+            # (one rank raising alone would leave the others in the run)
+            problem = None
+            if self.solver.comm.getRank() == 0:
+                try:
+                    zone.restore(state[layout.SOIL_STATE])
+                except InputError as exc:
+                    problem = str(exc)
+            problem = self.solver.comm.tompi4py().bcast(problem, root=0)
+            if problem is not None:
+                raise InputError(problem)
         parts = state.get(layout.ENERGY_STATE) if state else None
         if parts is not None and parts.shape[1] < len(SUMS):    # written before interfaces
             parts = np.pad(parts, ((0, 0), (0, len(SUMS) - parts.shape[1])))
