@@ -24,7 +24,6 @@ of GMRES steps: how each grows with the pairs.
     .venv/bin/python bench/plane_interfaces.py [--quick] [--no-pairs] [--no-ranks]
 """
 
-import io
 import os
 import statistics
 import subprocess
@@ -105,6 +104,32 @@ def batch(part):
         run_slab(solver, loads, j)
     part[2] = k + BATCH
     return (time.perf_counter() - t0) / BATCH
+
+
+def interleaved(variants, repeats, base):
+    """{name: {min_ms, median_ms, ratio_median}} of the built ``variants``
+    ({name: build()}) timed in turn, ``repeats`` batches each; the ratio
+    of medians to variant ``base``'s."""
+    times = {name: [] for name in variants}
+    for _ in range(repeats):
+        for name, part in variants.items():
+            times[name].append(batch(part))
+    reference = statistics.median(times[base])
+    return {name: {"min_ms": 1e3 * min(t), "median_ms": 1e3 * statistics.median(t),
+                   "ratio_median": statistics.median(t) / reference}
+            for name, t in times.items()}
+
+
+def keep(name, out, section):
+    """bench/NAME.json of ``out`` and its README section ``section(out)``."""
+    import json
+
+    from readme import write_readme
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, f"{name}.json"), "w") as f:
+        json.dump(out, f, indent=1)
+    write_readme(os.path.join(here, "README.md"), section(out))
 
 
 def changed_share(part):

@@ -15,9 +15,6 @@ the ratio of medians to the dry dam's.
     .venv/bin/python bench/plane_water.py [--quick]
 """
 
-import json
-import os
-import statistics
 import sys
 
 import plane_interfaces as harness
@@ -26,7 +23,6 @@ import vstpetsc
 H_CELL, REPEATS, WARM = 1.0, 5, 60
 FRICTION = 10.0        # the base sticks (as plane_interfaces.py's "sticking")
 LEVEL = 36.0           # the reservoir's surface (the dam is 40 m high)
-HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def wet_dam(h, hydrodynamic=None, uplift=False):
@@ -47,16 +43,8 @@ def measure(h, repeats):
                 "hydrostatic": harness.build(wet_dam(h, "none")),
                 "westergaard": harness.build(wet_dam(h, "westergaard")),
                 "westergaard + uplift": harness.build(wet_dam(h, "westergaard", True))}
-    times = {name: [] for name in variants}
-    for _ in range(repeats):
-        for name, part in variants.items():
-            times[name].append(harness.batch(part))
-    base = statistics.median(times["dry"])
-    out = {"cells": variants["dry"][3].ncells}
-    for name, t in times.items():
-        out[name] = {"min_ms": 1e3 * min(t), "median_ms": 1e3 * statistics.median(t),
-                     "ratio_median": statistics.median(t) / base}
-    return out
+    return {"cells": variants["dry"][3].ncells,
+            **harness.interleaved(variants, repeats, "dry")}
 
 
 def main(argv):
@@ -71,10 +59,7 @@ def main(argv):
             print(f"  {name:24s} {row['min_ms']:8.2f} / {row['median_ms']:8.2f}  "
                   f"x {row['ratio_median']:.3f}")
     if not quick:
-        with open(os.path.join(HERE, "plane_water.json"), "w") as f:
-            json.dump(out, f, indent=1)
-        from readme import write_readme
-        write_readme(os.path.join(HERE, "README.md"), section(out))
+        harness.keep("plane_water", out, section)
 
 
 def section(out):

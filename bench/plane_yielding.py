@@ -17,9 +17,6 @@ docs/nonlinear-soil.md section 8, "Limits").
     .venv/bin/python bench/plane_yielding.py [--quick]
 """
 
-import json
-import os
-import statistics
 import sys
 
 import numpy as np
@@ -30,7 +27,6 @@ import vstpetsc
 H_CELL, REPEATS, WARM = 1.0, 5, 250
 GAMMA_REF = 3.0e-4
 FRICTION = 0.3         # the base: the soft dam spreads under its weight, 0.05 would not hold it at rest
-HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def dam_section(scale, law, friction=None, h=H_CELL):
@@ -60,17 +56,10 @@ def measure(h, repeats):
                 "yielding, strong, base sliding": built(dam_section(1.0, True, FRICTION, h))}
     out = {name: {"failed": part} for name, part in variants.items() if isinstance(part, str)}
     variants = {name: part for name, part in variants.items() if name not in out}
-    times = {name: [] for name in variants}
-    for _ in range(repeats):
-        for name, part in variants.items():
-            times[name].append(harness.batch(part))
-    base = statistics.median(times["linear"])
     out["cells"] = variants["linear"][3].ncells
-    for name, t in times.items():
+    for name, row in harness.interleaved(variants, repeats, "linear").items():
         zone = variants[name][3].zone
-        out[name] = {"min_ms": 1e3 * min(t), "median_ms": 1e3 * statistics.median(t),
-                     "ratio_median": statistics.median(t) / base,
-                     "strain_max_over_gamma_ref": 0.0 if zone is None else
+        out[name] = {**row, "strain_max_over_gamma_ref": 0.0 if zone is None else
                      float(np.max(zone.strain_max)) / GAMMA_REF}
     return out
 
@@ -92,10 +81,7 @@ def main(argv):
                   f"x {row['ratio_median']:.2f}  strain_max {row['strain_max_over_gamma_ref']:.3g}"
                   " gamma_ref")
     if not quick:
-        with open(os.path.join(HERE, "plane_yielding.json"), "w") as f:
-            json.dump(out, f, indent=1)
-        from readme import write_readme
-        write_readme(os.path.join(HERE, "README.md"), section(out))
+        harness.keep("plane_yielding", out, section)
 
 
 def section(out):
