@@ -198,33 +198,31 @@ def plane_summary(result):
 
 def largest_tension(result, centre):
     """The largest principal stress over the run, the largest tension when
-    positive: (the largest /field/principal_max, its cell, the cell's
-    centre x, y, the time it was reached); None in a file of an earlier
-    version."""
-    if "field/principal_max" not in result:
-        return None
-    high = result.read("field/principal_max")
-    if not high.size:
-        return None
-    k = int(high.argmax())
-    return (float(high[k]), k, *map(float, centre[k]),
-            float(result.read("field/principal_max_time")[k]))
+    positive (envelope_peak of /field/principal_max); None in a file of an
+    earlier version."""
+    return envelope_peak(result, centre, "principal_max")
 
 
 def largest_strain(result, centre):
     """A yielding run's largest equivalent shear strain over the run
-    (/field/strain_max: its cell, the cell's centre, the time it was
-    reached from /field/strain_max_time, NaN in a file without it); None
-    without one."""
-    if "field/strain_max" not in result:
+    (envelope_peak of /field/strain_max); None without one."""
+    return envelope_peak(result, centre, "strain_max")
+
+
+def envelope_peak(result, centre, name):
+    """(the largest value of the per-cell envelope /field/NAME, its cell,
+    the cell's centre x, y, the time it was reached from
+    /field/NAME_time, NaN in a file without it); None without the
+    envelope or with no cells."""
+    if f"field/{name}" not in result:
         return None
-    strain = result.read("field/strain_max")
-    if not strain.size:
+    values = result.read(f"field/{name}")
+    if not values.size:
         return None
-    k = int(strain.argmax())
-    when = float(result.read("field/strain_max_time")[k]) \
-        if "field/strain_max_time" in result else float("nan")
-    return float(strain[k]), k, *map(float, centre[k]), when
+    k = int(values.argmax())
+    when = float(result.read(f"field/{name}_time")[k]) \
+        if f"field/{name}_time" in result else float("nan")
+    return float(values[k]), k, *map(float, centre[k]), when
 
 
 def interface_summary(result, name):

@@ -1,10 +1,11 @@
 """The static start of a plane-strain run under gravity ([gravity]
 initial = "static", as in 1-D: docs/loads.md): K u = f, f the weight at
 g(0) with the water's pressure (docs/water.md), the tractions constant
-in time and the uplift in interfaces (constant, vstpetsc.plane.uplift), with every held dof and every node of an absorbing curve held,
-solved once; the run then starts from rest in u with the absorbing
-nodes' reactions K u - f kept as constant forces (interfaces: each pair closed or open, sticking or sliding at mu
-N, settled by repeated solves, vstpetsc.plane.pairs), so that (u, 0) is
+in time and the uplift in interfaces (constant, vstpetsc.plane.uplift),
+with every held dof and every node of an absorbing curve held, solved
+once; the run then starts from rest in u with the absorbing nodes'
+reactions K u - f kept as constant forces (interfaces: each pair closed
+or open, sticking or sliding at mu N, settled by repeated solves, vstpetsc.plane.pairs), so that (u, 0) is
 an exact equilibrium of the slab equations (with v = 0 their right-hand
 side is dt/2 (f - K u) on both time rows, zero everywhere).  A part of
 the mesh that nothing holds is named instead (vstpetsc.plane.rigidity).
