@@ -128,7 +128,7 @@ def test_water_refuses_faces_that_share_an_edge(dam):
     from types import SimpleNamespace
     from vstpetsc.plane import water
 
-    spec = lambda faces: SimpleNamespace(name="reservoir", level=30.0, faces=faces)
+    spec = lambda faces: SimpleNamespace(name="reservoir", level=30.0, faces=faces, acoustic=None)
     assert water.check([spec(("upstream",))], dam) is None
     assert water.check([spec(("upstream", "downstream", "top_left"))], dam) is None
     problem = water.check([spec(("faces", "upstream"))], dam)

@@ -47,6 +47,13 @@ class Boundaries:
         pos = self.position[nodes]
         return pos[pos >= 0]
 
+    def hold_still(self, nodes, component):
+        """Hold at zero the owned ones of the local ``nodes`` along
+        ``component`` (0: x, 1: y): an acoustic water's (its surface's w,
+        every node's y slot)."""
+        for dof in 2 * self._owned(nodes) + component:
+            self.held.setdefault(int(dof), None)
+
     def _fixed(self, spec, edges):
         self._velocity(spec, edges)
 

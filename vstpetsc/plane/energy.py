@@ -2,7 +2,8 @@
 docs/loads.md section 4), each exact for the slab's linear velocity:
 
 - kinetic 1/2 v^T M v and strain 1/2 u^T K u at the slab ends (v^{(n+1)-});
-- damping: int v^T C v dt = dt (v1 C v1 + v1 C v2 + v2 C v2) / 3;
+- damping: int v^T C v dt = dt (v1 C v1 + (v1 C v2 + v2 C v1) / 2 + v2 C v2) / 3
+  (C's symmetric part: an acoustic water's skew coupling does no work);
 - external: the forces' work, sum_a (int T_a f dt) . v_a;
 - numerical: what the balance leaves (initial + external = kinetic +
   strain + damping + numerical): the energy of the velocity jumps at the

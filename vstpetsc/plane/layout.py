@@ -110,7 +110,7 @@ class RowFiller:
         for record in self.model.recorded:
             for key, value in record.values().items():
                 buffers[f"{record.group}/{key}"][i] = value
-        self._water(buffers, i, k)
+        self._water(buffers, i, k, v)
         mat = self.model.cell_materials
         stress = buffers[field_path("stress")][i]
         stress[...] = centre_stress(self.model.mesh, np.ravel(u), mat["lam"], mat["mu"])
@@ -118,14 +118,15 @@ class RowFiller:
         if zone is not None:         # a yielding cell's own: its points' mean
             stress[zone.cells] = zone.cell_stress()[zone.cells]
 
-    def _water(self, buffers, i, k):
+    def _water(self, buffers, i, k, v):
         """The water's pressure and resultant at t = k dt (g(t) times
-        their patterns per unit g: the loads the slabs carry)."""
+        their patterns per unit g: the loads the slabs carry; an acoustic
+        water's dynamic part from the velocities v)."""
         if not self.model.waters:
             return
         g = float(self.model.case.gravity.g(np.array([k * self.dt]))[0])
         for water in self.model.waters:
-            for key, value in water.values(g).items():
+            for key, value in water.values(g, np.asarray(v).reshape(-1, 2)).items():
                 buffers[f"{water.group}/{key}"][i] = value
 
     def row(self, k, u, v, its, wall, energy, d=None):

@@ -12,9 +12,10 @@ state and the gauges are given."""
 import os
 
 import numpy as np
+import scipy.sparse as sp
 
 from vstpetsc.errors import InputError
-from vstpetsc.plane import assembly, curves, elements
+from vstpetsc.plane import acoustic, assembly, curves, elements
 from vstpetsc.plane.solver import distributed
 
 OVERLAP = 0.1       # an interface's starting overlap against its cells' size
@@ -65,8 +66,13 @@ def check_names(case, mesh):
     (vstpetsc.plane.uplift.check)."""
     from vstpetsc.plane import uplift, water
 
+    from vstpetsc.plane import reservoir
+
     plane, regions = case.plane, mesh.region_names
-    named = [r.name for r in plane.regions]
+    problem = reservoir.check(plane.waters, mesh, [r.name for r in plane.regions])
+    if problem:                 # first: a misnamed water region leaves its cells without a table
+        raise InputError(problem)
+    named = [r.name for r in plane.regions] + list(reservoir.stand_ins(plane.waters))
     for i, r in enumerate(plane.regions):
         if r.name not in regions:
             raise InputError(f"region[{i}] ({r.name}).name: the mesh has no region {r.name!r} "
@@ -87,20 +93,34 @@ def check_names(case, mesh):
         raise InputError(problem)
 
 
-def split_interfaces(case, mesh):
-    """(the mesh split along every [[interface]], (infos, (nodes, normal,
-    tangent, length)) of its pairs): rank 0's (vstpetsc.plane.pairs);
-    InputError naming the interface."""
-    from vstpetsc.plane import pairs
+def split_interfaces(case, mesh, faces=None):
+    """(the mesh split along every [[interface]] and every acoustic water's
+    wetted face, (infos, (nodes, normal, tangent, length)) of the
+    interfaces' pairs): rank 0's (vstpetsc.plane.pairs); InputError naming
+    the interface.  ``faces``: a dict given the wetted faces' couplings
+    (vstpetsc.plane.reservoir), their curves turned to the solid's side."""
+    from vstpetsc.plane import pairs, reservoir
 
     specs = case.plane.interfaces
-    materials = cell_materials([{r.name: r for r in case.plane.regions}[n]
-                                for n in mesh.region_names], mesh.region)
+    materials = cell_materials(regions_of(case, mesh.region_names), mesh.region)
+    wetted = reservoir.wetted_names(case.plane.waters)
     try:
-        mesh, infos, arrays = pairs.split_all(specs, mesh, materials, case.dt)
+        mesh, infos, arrays, wet = pairs.split_all(specs, mesh, materials, case.dt, wetted)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    return mesh, (infos, arrays)
+    found = reservoir.couplings(mesh, case.plane.waters, wet)
+    if faces is not None:
+        faces.update(found)
+    return reservoir.solid_side_curves(mesh, found), (infos, arrays)
+
+
+def regions_of(case, names):
+    """The [[region]] of each region name, an acoustic water's region a
+    stand-in (vstpetsc.plane.reservoir.stand_ins)."""
+    from vstpetsc.plane.reservoir import stand_ins
+
+    by_name = {**stand_ins(case.plane.waters), **{r.name: r for r in case.plane.regions}}
+    return [by_name[n] for n in names]
 
 
 def summary(case, output, mesh=None, infos=None, factors=None):
@@ -193,11 +213,12 @@ class PlaneModel:
         self.zone = self.factors = None     # factors: confinement's (vstpetsc.plane.confinement)
         rank0 = comm.getRank() == 0
         error, mesh, split = None, None, None
+        self.faces = {}                 # rank 0's acoustic waters' FaceCouplings
         if rank0:
             try:
                 mesh = read_mesh(case.plane.mesh)
                 check_names(case, mesh)
-                mesh, split = split_interfaces(case, mesh)
+                mesh, split = split_interfaces(case, mesh, self.faces)
                 check_overlap(case, mesh, split[0], *split[1][:2])
             except InputError as exc:
                 error = str(exc)
@@ -215,6 +236,7 @@ class PlaneModel:
         if rank0:
             self.cell_materials = cell_materials(self._regions(mesh.region_names), mesh.region)
         self.boundaries = curves.Boundaries(self, case.plane.boundaries)
+        self._hold_water()
         self.pairs = self._pairs(arrays)
         self.zone = self._zone()
         if self.pairs is not None:
@@ -237,6 +259,11 @@ class PlaneModel:
 
         specs = self.case.plane.waters
         records = [water_record(self.mesh, spec) for spec in specs] if rank0 else None
+        if rank0:
+            from vstpetsc.plane.reservoir import dynamic_part
+            for record in records:
+                if record.spec.acoustic is not None:
+                    record.dynamic = dynamic_part(record.spec, record.nodes, self.faces)
         counts, self.water_bottoms = self.comm.tompi4py().bcast(
             ([r.nodes.size for r in records], [faces_bottom(self.mesh, s) for s in specs])
             if rank0 else None, root=0)
@@ -244,6 +271,37 @@ class PlaneModel:
             return records
         return [WaterRecord(spec, np.zeros(m, dtype=int), np.zeros(m), np.zeros(2))
                 for spec, m in zip(specs, counts)]
+
+    def _hold_water(self):
+        """Hold an acoustic water's free surface (p = 0) and every water
+        node's y slot (vstpetsc.plane.acoustic)."""
+        from vstpetsc.plane.acoustic import held_nodes
+        from vstpetsc.plane.reservoir import acoustic_specs
+
+        specs = acoustic_specs(self.case.plane.waters)
+        if specs:
+            surface, every = held_nodes(self.local.mesh, specs)
+            self.boundaries.hold_still(every, 1)
+            self.boundaries.hold_still(surface, 0)
+
+    def _water_damping(self):
+        """The acoustic waters' rows of C (vstpetsc.plane.reservoir): CSR,
+        owned rows, global columns; None without (collective)."""
+        from vstpetsc.plane.reservoir import acoustic_specs, damping_entries
+
+        if not acoustic_specs(self.case.plane.waters):
+            return None
+        global_of = self._global_of()
+        entries = None
+        if global_of is not None:
+            rows, cols, values = damping_entries(self.mesh, self.case.plane.waters, self.faces)
+            to_global = lambda d: 2 * global_of[d // 2] + d % 2
+            entries = (to_global(rows), to_global(cols), values)
+        rows, cols, values = self.comm.tompi4py().bcast(entries, root=0)
+        first, nown = self.first, self.owned_original.size
+        keep = (rows >= 2 * first) & (rows < 2 * (first + nown))
+        return sp.csr_matrix((values[keep], (rows[keep] - 2 * first, cols[keep])),
+                             shape=(2 * nown, 2 * self.nnodes))
 
     def _uplift(self, rank0):
         """(m, 2) each pair's uplift force p_u L n (vstpetsc.plane.uplift),
@@ -258,8 +316,7 @@ class PlaneModel:
         return self.comm.tompi4py().bcast(push, root=0)
 
     def _regions(self, names):
-        by_name = {r.name: r for r in self.case.plane.regions}
-        return [by_name[n] for n in names]
+        return regions_of(self.case, names)
 
     def _owned_numbering(self):
         """The local vertices this rank owns in global order, and their
@@ -345,9 +402,9 @@ class PlaneModel:
                            self.case.plane.waters, self.water_bottoms)
         if added is not None:               # inertia only: not in C = alpha M + beta K
             M = M + added
-        dashpots = self.boundaries.dashpots()
-        if dashpots is not None:
-            C = dashpots if C is None else C + dashpots
+        for extra in (self.boundaries.dashpots(), self._water_damping()):
+            if extra is not None:
+                C = extra if C is None else C + extra
         return M, C, K
 
     def closed_springs(self, whole=False):
@@ -401,7 +458,7 @@ def check_overlap(case, mesh, infos, nodes, normal):
     a start is the mesh overlapping itself, thrown apart with the
     penalty's energy.  A shallower overlap is a joint that starts
     pressed (its penalty's energy is part of the initial energy)."""
-    regions = [{r.name: r for r in case.plane.regions}[n] for n in mesh.region_names]
+    regions = regions_of(case, mesh.region_names)
     u, _, source = region_state(mesh, regions)
     du = u[nodes[:, 1]] - u[nodes[:, 0]]
     gap = np.einsum("mc,mc->m", normal, du)
@@ -433,6 +490,10 @@ def spatial_matrices(mesh, mat, local=None):
     parts = assembly.element_matrices(mesh, mat["lam"], mat["mu"], mat["rho"])
     mass, stiff, damp = [], [], []
     for cells, Ke, Me in parts.values():
+        water = mat["bulk"][cells] > 0          # an acoustic water's cells: its Laplacian
+        if water.any():
+            xy = mesh.coordinates[mesh.cells[cells[water], :Ke.shape[1] // 2]]
+            Ke[water] = acoustic.element_stiffness(xy, mat["bulk"][cells[water]])
         Me = massed(Me, mat["mass"][cells])
         mass.append((cells, Me))
         stiff.append((cells, Ke))
@@ -449,7 +510,8 @@ def cell_materials(regions, region):
     take = lambda f: np.array([f(r) for r in regions], dtype=float)[region] if len(region) \
         else np.zeros(0)
     out = {"lam": take(lambda r: r.lam), "mu": take(lambda r: r.mu), "rho": take(lambda r: r.rho),
-           "alpha": take(lambda r: r.damping[0]), "beta": take(lambda r: r.damping[1])}
+           "alpha": take(lambda r: r.damping[0]), "beta": take(lambda r: r.damping[1]),
+           "bulk": take(lambda r: getattr(r, "bulk", 0.0))}     # > 0: an acoustic water's
     kinds = list(elements.MASSES)
     out["mass"] = np.array([kinds.index(r.mass) for r in regions], dtype=int)[region] \
         if len(region) else np.zeros(0, dtype=int)

@@ -339,12 +339,14 @@ def static_matrix(pairs, state, nnodes):
         pair_matrix(pairs.nodes, block, nnodes)
 
 
-def split_all(specs, mesh, materials, dt):
-    """(the mesh split along every interface at once (interfaces.split_along:
-    the same whatever the tables' order), [InterfaceInfo], the pairs'
-    (nodes, normal, tangent, length)) on rank 0; ValueError naming the
-    interface for a curve the mesh has not, one on its boundary, an edge
-    two interfaces share, or a penalty beyond its limit."""
+def split_all(specs, mesh, materials, dt, wetted=()):
+    """(the mesh split along every interface and every curve ``wetted`` (an
+    acoustic water's faces) at once (interfaces.split_along: the same
+    whatever the tables' order), [InterfaceInfo], the interfaces' pairs'
+    (nodes, normal, tangent, length), {wetted curve: its NodePairs}) on
+    rank 0; ValueError naming the interface for a curve the mesh has not,
+    one on its boundary, an edge two interfaces share, or a penalty beyond
+    its limit."""
     from vstpetsc.plane.interfaces import split_along
 
     for i, spec in enumerate(specs):
@@ -353,10 +355,14 @@ def split_all(specs, mesh, materials, dt):
                              f"{spec.name!r} (curves: {', '.join(mesh.curves) or 'none'})")
     names = [spec.name for spec in specs]
     try:
-        split_mesh, parts = split_along(mesh, names)
+        split_mesh, parts = split_along(mesh, names + list(wetted))
     except ValueError as exc:
-        named = next((i for i, n in enumerate(names) if repr(n) in str(exc)), 0)
+        named = next((i for i, n in enumerate(names) if repr(n) in str(exc)), None)
+        if named is None:       # between wetted faces: the water's keys
+            raise ValueError(f"water.faces: {exc}") from None
         raise ValueError(f"interface[{named}] ({names[named]}).name: {exc}") from None
+    wet = dict(zip(wetted, parts[len(names):]))
+    parts = parts[:len(names)]
     infos, start = [], 0
     for i, (spec, pairs) in enumerate(zip(specs, parts)):
         penalty, shear = stiffnesses(i, spec, mesh, materials, dt)
@@ -368,7 +374,7 @@ def split_all(specs, mesh, materials, dt):
     join = lambda key, shape: np.concatenate([getattr(p, key) for p in parts]) if parts \
         else np.zeros(shape)
     return split_mesh, infos, (join("nodes", (0, 2)).astype(int), join("normal", (0, 2)),
-                               join("tangent", (0, 2)), join("length", (0,)))
+                               join("tangent", (0, 2)), join("length", (0,))), wet
 
 
 class InterfaceRecord:

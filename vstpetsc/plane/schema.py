@@ -35,8 +35,9 @@ INTERFACE_KEYS = ("name", "friction", "formulation", "penalty")
 FORMULATIONS = ("power", "seed")
 WATER_KEYS = ("name", "level", "rho", "faces", "hydrodynamic", "uplift", "tailwater")
 HYDRODYNAMIC = ("none", "westergaard", "acoustic")
-# the contract's keys of the water that is not built yet (the acoustic region's)
-WATER_LATER = ("region", "bulk", "far", "bottom")
+# the acoustic water's own keys (its region of the mesh)
+ACOUSTIC_KEYS = ("region", "bulk", "far", "bottom")
+WATER_BULK = 2.2e9          # fresh water's bulk modulus near 10 C (Pa): c = 1483 m/s at rho 1000
 
 
 @dataclass
@@ -103,9 +104,10 @@ class InterfaceSpec:
 @dataclass
 class WaterSpec:
     """A [[water]] table: the free surface's y ``level``, the water's
-    ``rho`` and the curves ``faces`` it wets; ``hydrodynamic`` "none" or
-    "westergaard"; ``uplift`` the [[interface]] it enters (None: none)
-    with the ``tailwater`` level at its other end (None: no water there)."""
+    ``rho`` and the curves ``faces`` it wets; ``hydrodynamic`` "none",
+    "westergaard" or "acoustic"; ``uplift`` the [[interface]] it enters
+    (None: none) with the ``tailwater`` level at its other end (None: no
+    water there); an acoustic water's ``acoustic`` (AcousticSpec)."""
 
     name: str
     level: float
@@ -114,6 +116,24 @@ class WaterSpec:
     hydrodynamic: str = "none"
     uplift: str | None = None
     tailwater: float | None = None
+    acoustic: object = None
+
+
+@dataclass
+class AcousticSpec:
+    """The acoustic water's region of the mesh, its ``bulk`` modulus, the
+    curve ``far`` that absorbs plane waves (None: none) and the ``bottom``
+    curve with its reflection coefficient ``alpha`` (None: none)."""
+
+    region: str
+    bulk: float
+    far: str | None = None
+    bottom: str | None = None
+    alpha: float = 1.0
+
+    def sound(self, rho):
+        """The speed of sound c = sqrt(bulk / rho)."""
+        return math.sqrt(self.bulk / rho)
 
 
 @dataclass
@@ -447,9 +467,11 @@ def read_waters(chk, tables, gravity, given, interfaces):
     which); ``interfaces``: the [[interface]] tables' names."""
     out, seen = [], set()
     for i, tbl in enumerate(tables):
-        name, where = _named(chk, tbl, "water", i, WATER_KEYS + WATER_LATER, seen,
+        name, where = _named(chk, tbl, "water", i, WATER_KEYS + ACOUSTIC_KEYS, seen,
                              "a second [[water]] named")
-        kind = _water_kind(chk, tbl, where)
+        kind = chk.string(tbl, "hydrodynamic", where, required=False, default="none",
+                          choices=HYDRODYNAMIC)
+        acoustic = _acoustic(chk, tbl, where, kind)
         level = chk.number(tbl, "level", where)
         rho = chk.number(tbl, "rho", where, required=False, default=1000.0, positive=True)
         faces = _faces(chk, tbl.get("faces"), f"{where}.faces")
@@ -460,8 +482,9 @@ def read_waters(chk, tables, gravity, given, interfaces):
         elif gravity is not None and np.any(gravity.g.f > 0):
             chk.add("gravity.g", f"water {name!r} needs g <= 0 (downward along y) at every "
                     "point of its history")
-        if None not in (name, level, rho, faces, kind, uplift):
-            out.append(WaterSpec(name, level, rho, faces, kind, *uplift))
+        if None not in (name, level, rho, faces, kind, uplift, acoustic):
+            out.append(WaterSpec(name, level, rho, faces, kind, *uplift,
+                                 acoustic=acoustic if kind == "acoustic" else None))
     return out
 
 
@@ -473,20 +496,47 @@ def _interface_names(doc):
         if isinstance(tables, list) else []
 
 
-def _water_kind(chk, tbl, where):
-    """A [[water]] table's hydrodynamic kind, "none" or "westergaard"
-    (None after reporting; the acoustic water is not built yet)."""
-    for key in WATER_LATER:
-        if key in tbl:
-            chk.add(f"{where}.{key}", "not built yet (the acoustic water's, docs/water.md)")
-            return None
-    kind = chk.string(tbl, "hydrodynamic", where, required=False, default="none",
-                      choices=HYDRODYNAMIC)
-    if kind == "acoustic":
-        chk.add(f"{where}.hydrodynamic", "'acoustic' is not built yet (\"none\" or "
-                "\"westergaard\", docs/water.md)")
+def _acoustic(chk, tbl, where, kind):
+    """The AcousticSpec of an acoustic [[water]] (False for another kind,
+    whose table may not hold the acoustic keys; None after reporting)."""
+    if kind != "acoustic":
+        for key in ACOUSTIC_KEYS:
+            if key in tbl:
+                chk.add(f"{where}.{key}", f"is the acoustic water's (hydrodynamic = "
+                        f"\"acoustic\"), not the {kind!r} water's")
+                return None
+        return False
+    if "region" not in tbl:
+        chk.add(f"{where}.region", "missing: the acoustic water is a region of the mesh "
+                "(its cells, without a [[region]] table)")
         return None
-    return kind
+    region = chk.string(tbl, "region", where)
+    bulk = chk.number(tbl, "bulk", where, required=False, default=WATER_BULK, positive=True)
+    far = chk.string(tbl, "far", where, required=False)
+    bottom = _bottom(chk, tbl.get("bottom"), f"{where}.bottom")
+    if None in (region, bulk, bottom) or ("far" in tbl and far is None):
+        return None
+    return AcousticSpec(region, bulk, far, *bottom)
+
+
+def _bottom(chk, val, where):
+    """(curve or None, alpha) of an acoustic water's bottom table, or None
+    after reporting."""
+    if val is None:
+        return None, 1.0
+    if not isinstance(val, dict):
+        chk.add(where, f"must be a table {{ name = \"curve\", alpha = 0.8 }}, got {show(val)}")
+        return None
+    for key in val:
+        if key not in ("name", "alpha"):
+            chk.add(f"{where}.{key}", "unknown key (name, alpha)")
+            return None
+    name = chk.string(val, "name", where)
+    # alpha < 0 (a bottom softer than water, Fenves and Chopra) is refused: the
+    # dashpot rho c (1 - alpha) / (1 + alpha) grows without bound towards -1
+    alpha = chk.number(val, "alpha", where, required=False, default=1.0, minimum=0.0,
+                       maximum=1.0)
+    return None if None in (name, alpha) else (name, alpha)
 
 
 def _uplift(chk, tbl, where, interfaces):

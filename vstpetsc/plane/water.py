@@ -133,15 +133,23 @@ class WaterRecord:
     nodes: np.ndarray
     depth: np.ndarray
     unit_force: np.ndarray
+    dynamic: object = None      # an acoustic water's (vstpetsc.plane.reservoir.DynamicPart)
 
     @property
     def group(self):
         return f"water/{self.spec.name}"
 
-    def values(self, g):
-        """{pressure (m,), force (2,)} at gravity ``g`` (g <= 0)."""
-        return {"pressure": self.spec.rho * -g * self.depth + 0.0,      # + 0: no -0
-                "force": self.unit_force * g + 0.0}
+    def values(self, g, v=None):
+        """{pressure (m,), force (2,)} at gravity ``g`` (g <= 0), with an
+        acoustic water's dynamic part from the state's velocities ``v``
+        (nn, 2) (the mesh's numbering as read)."""
+        out = {"pressure": self.spec.rho * -g * self.depth + 0.0,      # + 0: no -0
+               "force": self.unit_force * g + 0.0}
+        if self.dynamic is not None and v is not None:
+            pressure, force = self.dynamic.values(v)
+            out["pressure"] = out["pressure"] + pressure
+            out["force"] = out["force"] + force
+        return out
 
 
 def water_record(mesh, spec):
@@ -168,7 +176,8 @@ def check(specs, mesh):
     keys, counts = np.unique(mesh.edge_keys(a, b), return_counts=True)
     for i, spec in enumerate(specs):
         where = f"water[{i}] ({spec.name})"
-        for name in spec.faces:
+        # an acoustic water's faces lie between cells (vstpetsc.plane.reservoir.check)
+        for name in spec.faces if spec.acoustic is None else ():
             if name not in mesh.curves:
                 return (f"{where}.faces: {name!r} is not a curve of the mesh (curves: "
                         f"{', '.join(mesh.curves) or 'none'})")

@@ -164,14 +164,16 @@ class PlaneSolver:
         self.principal.after_slab(self.u)
 
     def _damping(self, v1, v2):
-        """This rank's v1 C v1 + v1 C v2 + v2 C v2 (rows it owns)."""
+        """This rank's v1 C v1 + (v1 C v2 + v2 C v1) / 2 + v2 C v2 (rows it
+        owns): 3 / dt times the work of C's symmetric part (an acoustic
+        water's skew coupling does none)."""
         self._products_fresh = False          # v_vec holds v1, v2 now
         self.v_vec.setArray(v1)
         self.C.mult(self.v_vec, self.c1)
         self.v_vec.setArray(v2)
         self.C.mult(self.v_vec, self.c2)
         c1, c2 = self.c1.getArray(readonly=True), self.c2.getArray(readonly=True)
-        return float(v1 @ c1 + v1 @ c2 + v2 @ c2)
+        return float(v1 @ c1 + 0.5 * (v1 @ c2 + v2 @ c1) + v2 @ c2)
 
     def _reaction_work(self, x):
         """The held dofs' reactions' work in the slab: (A x - r) . x on their rows."""
