@@ -117,3 +117,20 @@ def free_dam_case(tmp_path, dt, end, name="free", H=10.0, L=20.0):
     path = tmp_path / f"{name}.toml"
     path.write_text(FREE.format(dt=dt, end=end, every=int(round(end / dt)), mesh=mesh, H=H))
     return path
+
+
+def shaken_case(tmp_path, end, name="shaken", dt=1e-3):
+    """A flexible dam column (2 m wide, E 1e9) on a base moving along x
+    (a velocity pulse), its reservoir (20 x 10 cells) at rest under its
+    weight (static start): far end, bottom with alpha 0.8."""
+    mesh = write_gmsh22(tmp_path / f"{name}.msh", reservoir_mesh(10.0, 40.0, 20, 10, T=2.0))
+    vx = "[[0.0, 0.0], [0.05, 0.05], [0.1, 0.0], [10.0, 0.0]]"
+    text = CASE.format(dt=dt, end=end, every=5, mesh=mesh, vx=vx, H=10.0, bulk=BULK,
+                       initial="static", far='far = "far"',
+                       bottom='bottom = { name = "bottom", alpha = 0.8 }')
+    held = f'type = "velocity"\nvalue = {{ x = {vx}, y = 0.0 }}\n'
+    text = text.replace(f'name = "face"\n{held}', f'name = "base"\n{held}')
+    text = text.replace(f'[[boundary]]\nname = "outer"\n{held}', "")
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text.replace("E = 3.0e10", "E = 1.0e9"))
+    return path

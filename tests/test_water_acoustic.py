@@ -15,7 +15,7 @@ import pytest
 import scipy.linalg
 
 import vstpetsc
-from acoustic_cases import free_dam_case, reservoir_case
+from acoustic_cases import free_dam_case, reservoir_case, shaken_case
 from test_plane_run import run_cli
 
 END = 0.2
@@ -122,3 +122,36 @@ def test_bad_acoustic_input_is_one_line_and_exit_2(tmp_path, label, change, mess
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], p.stderr
     assert not out.exists()
+
+
+def test_two_ranks_equal_one_with_an_acoustic_reservoir(tmp_path):
+    """Every dataset within 1e-10 of its largest (the face's couplings
+    and the water's dashpots across the ranks' rows)."""
+    from test_plane_run import mpirun_against_one_rank
+
+    two = mpirun_against_one_rank(tmp_path, shaken_case(tmp_path, 0.1))
+    with h5py.File(two) as f:
+        dynamic = f["water/reservoir/pressure"][:] - f["water/reservoir/pressure"][0]
+        assert np.abs(dynamic).max() > 100.0             # the water answered the dam
+
+
+def test_a_restart_with_an_acoustic_reservoir_is_bit_for_bit(tmp_path):
+    from test_water_hydrostatic import restarted_as_whole
+
+    names = restarted_as_whole(tmp_path, lambda end, name: shaken_case(tmp_path, end, name), 0.1)
+    assert "water/reservoir/pressure" in names
+
+
+def test_info_prints_the_lowest_pressure_on_the_faces(tmp_path):
+    """`vstpetsc info` names the lowest total pressure on the faces, its
+    node and time (the dataset's own minimum), and says when it is below
+    zero (the water pulls: no cavitation)."""
+    out = run(shaken_case(tmp_path, 0.1), tmp_path)
+    with h5py.File(out) as f:
+        p, nodes, time = (f[k][:] for k in ("water/reservoir/pressure", "water/reservoir/nodes",
+                                            "time"))
+    k, j = np.unravel_index(p.argmin(), p.shape)
+    text = run_cli("info", out).stdout
+    line = next(x for x in text.splitlines() if "lowest pressure" in x)
+    assert f"{p[k, j]:.6g} at node {nodes[j]}, t = {time[k]:.6g}" in line
+    assert ("cavitate" in line) == (p[k, j] < 0)

@@ -279,7 +279,12 @@ def water_summary(result, name):
     if not force.size:
         return {**out, "force": None}
     i = int(np.hypot(*force.T).argmax())
-    return {**out, "force": (*map(float, force[i]), float(result.time[i]))}
+    out["force"] = (*map(float, force[i]), float(result.time[i]))
+    pressure = w.pressure[:]
+    if pressure.size:           # water cannot pull: below zero it would cavitate
+        k, j = np.unravel_index(int(pressure.argmin()), pressure.shape)
+        out["lowest"] = (float(pressure[k, j]), int(w.nodes[j]), float(result.time[k]))
+    return out
 
 
 def plane_gauge_summary(result, name):
@@ -451,6 +456,12 @@ def plane_lines(p):
             line += (f"; largest resultant ({fx:.6g}, {fy:.6g}), |F| {np.hypot(fx, fy):.6g} "
                      f"per unit thickness, t = {t:.6g}")
         lines.append(line)
+        if w.get("lowest") is not None:
+            value, node, t = w["lowest"]
+            note = " (below zero: the water would cavitate there; vstpetsc's water pulls, " \
+                "docs/water.md)" if value < 0 else ""
+            lines.append(f"    lowest pressure on the faces {value:.6g} at node {node}, "
+                         f"t = {t:.6g}{note}")
     return lines
 
 
