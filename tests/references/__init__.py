@@ -17,4 +17,8 @@ and the accuracy studies in studies/ import them from here.
 - lamb.py: Lamb's problem in plane strain, the surface motion of a
   half-space under a vertical line load, closed form (Cagniard-de Hoop)
   and by wavenumber-frequency integration, with the Rayleigh speed.
+- chopra_reservoir.py: the harmonic hydrodynamic pressure on a rigid
+  vertical dam face, Chopra's (1967) infinite reservoir, the same truncated
+  at a plane-wave dashpot, Fenves & Chopra's absorbing bottom, and the
+  incompressible closed form (0.743 rho a H at the heel).
 """
