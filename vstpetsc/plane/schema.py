@@ -23,7 +23,8 @@ TOP = ("time", "output", "units", "gravity", "gauge", "mesh", "region", "boundar
        "water")
 GENERATED = {"rectangle": ("x", "y", "nx", "ny", "triangles", "joints"),
              "dam": ("height", "crest", "upstream", "downstream", "foundation_depth",
-                     "foundation_width", "h")}
+                     "foundation_width", "h", "reservoir")}
+RESERVOIR_KEYS = ("level", "length")
 REGION_KEYS = ("name", "E", "nu", "Vs", "Vp", "rho", "damping", "mass", "v0", "u0", "shear_law",
                "confinement")
 BOUNDARY_KEYS = ("name", "type", "value", "rock", "incident", "motion")
@@ -265,22 +266,65 @@ def _joints(chk, joints, where, p):
 
 
 def _dam(chk, p, where):
-    out = {k: chk.number(p, k, where, positive=k != "crest", minimum=0.0)
-           for k in GENERATED["dam"]}
-    if None in out.values():
+    """[mesh] dam: the numbers, the faces (slopes or polylines), the
+    optional reservoir, then the profile's geometry (one line naming the
+    key: vstpetsc.plane.dam_mesh's checks, those the mesh would fail) and
+    the mesh's size."""
+    from vstpetsc.plane import dam_mesh
+
+    before = len(chk.problems)
+    # with two polylines the crest is theirs
+    polylines = all(isinstance(p.get(k), list) for k in ("upstream", "downstream"))
+    out = {k: _dam_face(chk, p, k, where) if k in ("upstream", "downstream") else
+           chk.number(p, k, where, required=k != "crest" or not polylines,
+                      positive=k != "crest", minimum=0.0)
+           for k in GENERATED["dam"] if k != "reservoir"}
+    out["reservoir"] = _reservoir(chk, p.get("reservoir"), f"{where}.reservoir")
+    if len(chk.problems) > before:
         return None
-    half = out["crest"] / 2 + max(out["upstream"], out["downstream"]) * out["height"]
-    if 2 * half >= out["foundation_width"]:
-        chk.add(f"{where}.foundation_width", f"must exceed the dam's base "
-                f"({out['crest'] + (out['upstream'] + out['downstream']) * out['height']:g})")
+    try:
+        up, down = dam_mesh.faces(*(out[k] for k in ("height", "crest", "upstream",
+                                                      "downstream")))
+        dam_mesh.check_fit(up, down, out["foundation_width"], out["reservoir"])
+    except dam_mesh.ProfileError as exc:
+        chk.add(f"{where}.{exc.key}", exc.message)
         return None
-    # about a node an h^2 of area; the dam's triangles two a node
-    dam = (out["crest"] + 0.5 * (out["upstream"] + out["downstream"]) * out["height"]) * \
-        out["height"] / out["h"] ** 2
+    # about a node an h^2 of area; the dam's (and the water's) triangles two a node
+    solid, water = dam_mesh.areas(up, down, out["reservoir"])
+    above = (solid + water) / out["h"] ** 2
     rock = out["foundation_width"] * out["foundation_depth"] / out["h"] ** 2
-    if _too_big(chk, f"{where}.h", 2 * dam + rock, dam + rock):
+    if _too_big(chk, f"{where}.h", 2 * above + rock, above + rock):
         return None
     return MeshSpec("dam", params=out)
+
+
+def _dam_face(chk, p, key, where):
+    """A dam's face: a slope (a number > 0, horizontal : vertical) or a
+    polyline, a list of at least two [x, y] points (their heights
+    vstpetsc.plane.dam_mesh checks); None after reporting."""
+    val, name = p.get(key), f"{where}.{key}"
+    if not isinstance(val, list):
+        return chk.number(p, key, where, positive=True)
+    if len(val) < 2 or not all(isinstance(q, list) and len(q) == 2 and all(map(is_number, q))
+                               for q in val):
+        chk.add(name, "must be a slope (a number) or a list of at least two [x, y] points, "
+                f"got {show(val)}")
+        return None
+    points = [_numbers(chk, q, f"{name}[{i}]", "[x, y]") for i, q in enumerate(val)]
+    return None if None in points else [list(q) for q in points]
+
+
+def _reservoir(chk, val, where):
+    """The optional reservoir { level, length } (None when absent or after
+    reporting)."""
+    if val is None:
+        return None
+    if not isinstance(val, dict):
+        chk.add(where, f"must be a table {{ level = y, length = m }}, got {show(val)}")
+        return None
+    chk.unknown(val, RESERVOIR_KEYS, where)
+    out = {k: chk.number(val, k, where, positive=True) for k in RESERVOIR_KEYS}
+    return None if None in out.values() else out
 
 
 def _too_big(chk, where, cells, nodes):
