@@ -107,6 +107,9 @@ BAD = [
     ("acoustic key elsewhere", ('hydrodynamic = "acoustic"', 'hydrodynamic = "westergaard"'),
      "water[0] (reservoir).region: is the acoustic water's"),
     ("bulk NaN", ("bulk = 2250000000.0", "bulk = nan"), "water[0] (reservoir).bulk"),
+    ("boundary on the water", ("[gravity]", '[[boundary]]\nname = "far"\ntype = "fixed"\n'
+                               '[gravity]'),
+     "boundary[2] (far).name: runs along the acoustic water's region only"),
 ]
 
 
@@ -155,3 +158,43 @@ def test_info_prints_the_lowest_pressure_on_the_faces(tmp_path):
     line = next(x for x in text.splitlines() if "lowest pressure" in x)
     assert f"{p[k, j]:.6g} at node {nodes[j]}, t = {time[k]:.6g}" in line
     assert ("cavitate" in line) == (p[k, j] < 0)
+
+
+def test_the_water_matrices_of_a_rectangle(tmp_path):
+    """The reservoir beside a rigid face (H = 10, L = 20, alpha 0.5): C's
+    symmetric part is the far end's dashpot rho c H plus the bottom's
+    rho c L (1 - alpha) / (1 + alpha), on the water's w alone; its skew
+    part couples the face's solid x rows to the water's w with sum
+    -rho c H (the solid's outward normal +x, the face H long), nothing
+    along y; the water's K is bulk times a Laplacian (no w of a constant,
+    bulk |grad w|^2 A of a linear field: exact on quadrilaterals of a
+    rectangle); its y slots carry mass only."""
+    from petsc4py import PETSc
+    from acoustic_cases import BULK, RHO_W
+    from vstpetsc.plane.model import PlaneModel
+
+    path = reservoir_case(tmp_path, 10.0, 20.0, 8, 4, 1e-3, 0.01, "0.0", alpha=0.5)
+    model = PlaneModel(vstpetsc.Case.from_toml(path), PETSc.COMM_WORLD)
+    M, C, K = (m.toarray() for m in model.matrices())
+    impedance = RHO_W * np.sqrt(BULK / RHO_W)
+    nodes = model.owned_original                   # global position -> node as read
+    region = model.mesh.region
+    cells = model.mesh.cells[region == model.mesh.region_names.index("water")]
+    water_nodes = np.zeros(model.mesh.nnodes, dtype=bool)
+    water_nodes[cells[cells >= 0]] = True
+    water = water_nodes[nodes]
+    sym, skew = (C + C.T) / 2, (C - C.T) / 2
+    w_dofs = 2 * np.flatnonzero(water)
+    assert np.isclose(np.trace(sym), impedance * (10.0 + 20.0 * 0.5 / 1.5), rtol=1e-13)
+    assert np.abs(sym).sum() == pytest.approx(np.trace(sym[np.ix_(w_dofs, w_dofs)]), rel=1e-13)
+    solid_x = 2 * np.flatnonzero(~water)
+    assert skew[np.ix_(solid_x, w_dofs)].sum() == pytest.approx(-impedance * 10.0, rel=1e-13)
+    assert np.abs(skew[np.ix_(solid_x + 1, w_dofs)]).max() == 0.0
+    Kw = K[np.ix_(w_dofs, w_dofs)]
+    x, y = (model.mesh.coordinates[nodes[water], k] for k in range(2))
+    assert np.abs(Kw.sum(axis=1)).max() < 1e-12 * np.abs(Kw).max()
+    field = 0.3 * x - 0.7 * y
+    assert field @ Kw @ field == pytest.approx(BULK * (0.09 + 0.49) * 200.0, rel=1e-12)
+    y_slots = w_dofs + 1
+    assert np.abs(K[y_slots]).max() == 0.0 and np.abs(C[y_slots]).max() == 0.0
+    assert M[y_slots, y_slots].min() > 0

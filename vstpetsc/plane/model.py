@@ -69,7 +69,8 @@ def check_names(case, mesh):
     from vstpetsc.plane import reservoir
 
     plane, regions = case.plane, mesh.region_names
-    problem = reservoir.check(plane.waters, mesh, [r.name for r in plane.regions])
+    problem = reservoir.check(plane.waters, mesh, [r.name for r in plane.regions],
+                              [b for b in plane.boundaries if b.name in mesh.curves])
     if problem:                 # first: a misnamed water region leaves its cells without a table
         raise InputError(problem)
     named = [r.name for r in plane.regions] + list(reservoir.stand_ins(plane.waters))
@@ -164,7 +165,21 @@ def water_lines(case, mesh):
         out.append(f"  water {spec.name}: level {spec.level:g}, rho {spec.rho:g}, faces "
                    f"{', '.join(spec.faces)}; hydrostatic resultant at t = 0 "
                    f"({force[0]:.6g}, {force[1]:.6g}) per unit thickness")
+        if spec.acoustic is not None:
+            out.append("    " + acoustic_line(case, mesh, spec))
     return out
+
+
+def acoustic_line(case, mesh, spec):
+    """The summary's line on an acoustic water: its region, c and c dt / h,
+    its far end and bottom."""
+    a = spec.acoustic
+    c = a.sound(spec.rho)
+    h = cell_sizes(mesh)[mesh.region == mesh.region_names.index(a.region)]
+    ends = (f", far end {a.far} absorbing" if a.far else ", no far end") + \
+        (f", bottom {a.bottom} alpha {a.alpha:g}" if a.bottom else "")
+    return (f"acoustic: region {a.region} ({h.size} cells), bulk {a.bulk:.6g}, c = {c:.6g}, "
+            f"c dt / h up to {c * case.dt / h.min():.3g}{ends}")
 
 
 def confined_note(region, mesh, factors):
@@ -422,7 +437,8 @@ class PlaneModel:
     def courant(self, dt):
         """The largest Vp dt / h over every rank's cells (h: cell_sizes)."""
         mat = self.materials
-        vp = np.sqrt((mat["lam"] + 2 * mat["mu"]) / mat["rho"])
+        # an acoustic water's cells: c = sqrt(bulk / rho) (their lam and mu are 0)
+        vp = np.sqrt((mat["lam"] + 2 * mat["mu"] + mat["bulk"]) / mat["rho"])
         local = float(np.max(vp * dt / cell_sizes(self.local.mesh), initial=0.0))
         from mpi4py import MPI
         return self.comm.tompi4py().allreduce(local, op=MPI.MAX)

@@ -57,9 +57,11 @@ def _cells_beside(mesh, edges):
     return np.column_stack([first, second])
 
 
-def check(specs, mesh, tables):
+def check(specs, mesh, tables, boundaries=()):
     """The problem of the acoustic waters against the unsplit mesh as one
-    line naming the key, or None (``tables``: the [[region]] names)."""
+    line naming the key, or None (``tables``: the [[region]] names;
+    ``boundaries``: the [[boundary]] tables, none of which may hold a
+    curve that only the water's cells hold)."""
     seen = {}
     for i, spec in enumerate(specs):
         if spec.acoustic is None:
@@ -69,6 +71,22 @@ def check(specs, mesh, tables):
             _faces_problem(where, spec, mesh) or _ends_problem(where, spec, mesh)
         if problem:
             return problem
+    return _boundary_problem(specs, mesh, boundaries)
+
+
+def _boundary_problem(specs, mesh, boundaries):
+    """A [[boundary]] on a curve of an acoustic water's alone (its unknown
+    is no velocity: its boundaries are the free surface, far and bottom)."""
+    water = [mesh.region_names.index(s.acoustic.region) for s in acoustic_specs(specs)]
+    for i, b in enumerate(boundaries):
+        edges = mesh.curves.get(b.name)
+        if not water or edges is None or not len(edges):
+            continue
+        sides = _cells_beside(mesh, edges)
+        if np.isin(sides, water + [-1]).all(axis=1).any():
+            return (f"boundary[{i}] ({b.name}).name: runs along the acoustic water's region "
+                    "only: the water's boundaries are its free surface, far and bottom "
+                    "(docs/water.md)")
     return None
 
 
