@@ -527,7 +527,7 @@ def cell_materials(regions, region):
         else np.zeros(0)
     out = {"lam": take(lambda r: r.lam), "mu": take(lambda r: r.mu), "rho": take(lambda r: r.rho),
            "alpha": take(lambda r: r.damping[0]), "beta": take(lambda r: r.damping[1]),
-           "bulk": take(lambda r: getattr(r, "bulk", 0.0))}     # > 0: an acoustic water's
+           "bulk": take(lambda r: r.bulk)}          # > 0: an acoustic water's
     kinds = list(elements.MASSES)
     out["mass"] = np.array([kinds.index(r.mass) for r in regions], dtype=int)[region] \
         if len(region) else np.zeros(0, dtype=int)

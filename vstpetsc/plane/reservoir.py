@@ -24,9 +24,8 @@ def stand_ins(specs):
     (cell_materials' "bulk": the cells whose matrices are the water's)."""
     out = {}
     for spec in acoustic_specs(specs):
-        region = RegionSpec(spec.acoustic.region, 0.0, 0.0, spec.rho, mass="averaged")
-        region.bulk = spec.acoustic.bulk
-        out[region.name] = region
+        out[spec.acoustic.region] = RegionSpec(spec.acoustic.region, 0.0, 0.0, spec.rho,
+                                               mass="averaged", bulk=spec.acoustic.bulk)
     return out
 
 

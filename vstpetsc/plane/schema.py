@@ -66,6 +66,7 @@ class RegionSpec:
     u0: tuple = (0.0, 0.0)
     shear_law: dict = None      # {"gamma_ref", "beta", "s"} of MKZ (issue 46), None: linear
     confinement: dict = None    # {"p_ref", "exponent"} (vstpetsc.plane.confinement), None: none
+    bulk: float = 0.0           # > 0: an acoustic water's stand-in (vstpetsc.plane.reservoir)
 
     @property
     def vp(self):
