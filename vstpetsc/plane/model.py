@@ -251,7 +251,7 @@ class PlaneModel:
         if rank0:
             self.cell_materials = cell_materials(self._regions(mesh.region_names), mesh.region)
         self.boundaries = curves.Boundaries(self, case.plane.boundaries)
-        self._hold_water()
+        hold_water(self)
         self.pairs = self._pairs(arrays)
         self.zone = self._zone()
         if self.pairs is not None:
@@ -268,17 +268,13 @@ class PlaneModel:
         elsewhere their shapes' stand-ins: the nodes' count, every rank's);
         sets ``water_bottoms``, each table's faces' lowest y (every rank's:
         Westergaard's H)."""
-        from vstpetsc.plane.water import WaterRecord, water_record
+        from vstpetsc.plane.reservoir import water_records
+        from vstpetsc.plane.water import WaterRecord
 
         from vstpetsc.plane.westergaard import faces_bottom
 
         specs = self.case.plane.waters
-        records = [water_record(self.mesh, spec) for spec in specs] if rank0 else None
-        if rank0:
-            from vstpetsc.plane.reservoir import dynamic_part
-            for record in records:
-                if record.spec.acoustic is not None:
-                    record.dynamic = dynamic_part(record.spec, record.nodes, self.faces)
+        records = water_records(self.mesh, specs, self.faces) if rank0 else None
         counts, self.water_bottoms = self.comm.tompi4py().bcast(
             ([r.nodes.size for r in records], [faces_bottom(self.mesh, s) for s in specs])
             if rank0 else None, root=0)
@@ -286,37 +282,6 @@ class PlaneModel:
             return records
         return [WaterRecord(spec, np.zeros(m, dtype=int), np.zeros(m), np.zeros(2))
                 for spec, m in zip(specs, counts)]
-
-    def _hold_water(self):
-        """Hold an acoustic water's free surface (p = 0) and every water
-        node's y slot (vstpetsc.plane.acoustic)."""
-        from vstpetsc.plane.acoustic import held_nodes
-        from vstpetsc.plane.reservoir import acoustic_specs
-
-        specs = acoustic_specs(self.case.plane.waters)
-        if specs:
-            surface, every = held_nodes(self.local.mesh, specs)
-            self.boundaries.hold_still(every, 1)
-            self.boundaries.hold_still(surface, 0)
-
-    def _water_damping(self):
-        """The acoustic waters' rows of C (vstpetsc.plane.reservoir): CSR,
-        owned rows, global columns; None without (collective)."""
-        from vstpetsc.plane.reservoir import acoustic_specs, damping_entries
-
-        if not acoustic_specs(self.case.plane.waters):
-            return None
-        global_of = self._global_of()
-        entries = None
-        if global_of is not None:
-            rows, cols, values = damping_entries(self.mesh, self.case.plane.waters, self.faces)
-            to_global = lambda d: 2 * global_of[d // 2] + d % 2
-            entries = (to_global(rows), to_global(cols), values)
-        rows, cols, values = self.comm.tompi4py().bcast(entries, root=0)
-        first, nown = self.first, self.owned_original.size
-        keep = (rows >= 2 * first) & (rows < 2 * (first + nown))
-        return sp.csr_matrix((values[keep], (rows[keep] - 2 * first, cols[keep])),
-                             shape=(2 * nown, 2 * self.nnodes))
 
     def _uplift(self, rank0):
         """(m, 2) each pair's uplift force p_u L n (vstpetsc.plane.uplift),
@@ -417,7 +382,7 @@ class PlaneModel:
                            self.case.plane.waters, self.water_bottoms)
         if added is not None:               # inertia only: not in C = alpha M + beta K
             M = M + added
-        for extra in (self.boundaries.dashpots(), self._water_damping()):
+        for extra in (self.boundaries.dashpots(), water_damping(self)):
             if extra is not None:
                 C = extra if C is None else C + extra
         return M, C, K
@@ -453,6 +418,39 @@ class PlaneModel:
         u, v = self.comm.tompi4py().bcast((u, v), root=0)
         return u, v
 
+
+
+def hold_water(model):
+    """Hold an acoustic water's free surface (p = 0) and every water
+    node's y slot (vstpetsc.plane.acoustic) among the model's boundaries."""
+    from vstpetsc.plane.acoustic import held_nodes
+    from vstpetsc.plane.reservoir import acoustic_specs
+
+    specs = acoustic_specs(model.case.plane.waters)
+    if specs:
+        surface, every = held_nodes(model.local.mesh, specs)
+        model.boundaries.hold_still(every, 1)
+        model.boundaries.hold_still(surface, 0)
+
+
+def water_damping(model):
+    """The acoustic waters' rows of C (vstpetsc.plane.reservoir): CSR,
+    the model's owned rows, global columns; None without (collective)."""
+    from vstpetsc.plane.reservoir import acoustic_specs, damping_entries
+
+    if not acoustic_specs(model.case.plane.waters):
+        return None
+    global_of = model._global_of()
+    entries = None
+    if global_of is not None:
+        rows, cols, values = damping_entries(model.mesh, model.case.plane.waters, model.faces)
+        to_global = lambda d: 2 * global_of[d // 2] + d % 2
+        entries = (to_global(rows), to_global(cols), values)
+    rows, cols, values = model.comm.tompi4py().bcast(entries, root=0)
+    first, nown = model.first, model.owned_original.size
+    keep = (rows >= 2 * first) & (rows < 2 * (first + nown))
+    return sp.csr_matrix((values[keep], (rows[keep] - 2 * first, cols[keep])),
+                         shape=(2 * nown, 2 * model.nnodes))
 
 def region_state(mesh, regions):
     """(u, v, the region each node takes them from) (nn, 2), (nn, 2), (nn,)

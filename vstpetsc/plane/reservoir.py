@@ -214,3 +214,16 @@ def dynamic_part(spec, nodes, faces):
     partner = water[order[np.searchsorted(solid[order], nodes)]]
     return DynamicPart(partner, spec.rho * spec.acoustic.sound(spec.rho), water,
                        np.concatenate([f.push for f in mine]))
+
+
+def water_records(mesh, specs, faces):
+    """The WaterRecord of every [[water]] on rank 0's split mesh, an
+    acoustic water's with its DynamicPart (``faces``: {face:
+    FaceCoupling})."""
+    from vstpetsc.plane.water import water_record
+
+    records = [water_record(mesh, spec) for spec in specs]
+    for record in records:
+        if record.spec.acoustic is not None:
+            record.dynamic = dynamic_part(record.spec, record.nodes, faces)
+    return records
