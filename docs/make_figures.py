@@ -513,6 +513,78 @@ def _gravity_dam_reservoir(f, result):
             f"friction dissipated {f['energy/friction'][-1] / 1e3:.1f} kJ per m")
 
 
+def _koyna_panels(axes, f, result, heel):
+    """koyna's four panels: the crest's horizontal acceleration, the heel's
+    hydrodynamic pressure, the largest principal stress over the section
+    (tension positive) and the energy."""
+    from matplotlib.collections import PolyCollection
+
+    t, water = result.time, result.water("reservoir")
+    gauge = result.gauge("crest")
+    axes[0].plot(np.arange(gauge.v.shape[0]) * gauge.dt, acceleration_of(result) / 9.81)
+    axes[0].set(xlabel="t [s]", ylabel="g", title="(a) crest, horizontal acceleration")
+    pressure = water.pressure[:, heel]
+    axes[1].plot(t, (pressure - pressure[0]) / 1e3)
+    axes[1].set(xlabel="t [s]", ylabel="kPa", title="(b) heel, hydrodynamic pressure")
+    xy, cells = f["mesh/coordinates"][:], f["mesh/cells"][:]
+    dam = _dam_cells(f)
+    polygons = [xy[c[c >= 0]] for c in cells[dam]]
+    art = PolyCollection(polygons, array=f["field/principal_max"][:][dam] / 1e6, cmap="viridis")
+    axes[2].add_collection(art)
+    axes[2].autoscale_view()
+    axes[2].set_aspect("equal")
+    axes[2].figure.colorbar(art, ax=axes[2], label="MPa")
+    axes[2].set(xlabel="x [m]", ylabel="y [m]", title="(c) largest principal stress, envelope")
+    e = result.energy
+    for key in ("kinetic", "strain", "external", "damping", "numerical"):
+        axes[3].plot(t, e[key] / 1e6, label=key)
+    axes[3].set(xlabel="t [s]", ylabel="MJ per m", title="(d) energy")
+    axes[3].legend(fontsize=7)
+
+
+def _dam_cells(f):
+    """The dam's cells: region 0 of the generated mesh (regions "dam",
+    "foundation", "water" in this order, docs/case-file.md)."""
+    return f["mesh/region"][:] == 0
+
+
+def _koyna(f, result):
+    """Key numbers and the response figure of koyna (the first frequencies
+    are tests/test_examples.py's, test_koyna_first_frequency_empty_and_full)."""
+    import matplotlib.pyplot as plt
+
+    water = result.water("reservoir")
+    xy = f["mesh/coordinates"][:]
+    heel = int(np.flatnonzero(np.hypot(*xy[water.nodes[:]].T) < 1e-9)[0])
+    fig, axes = plt.subplots(1, 4, figsize=(17, 3.8), constrained_layout=True)
+    _koyna_panels(axes, f, result, heel)
+    fig.savefig(os.path.join(HERE, "figures", "koyna-response.png"), dpi=110)
+    plt.close(fig)
+    pressure = water.pressure[:]
+    dynamic = np.abs(pressure[:, heel] - pressure[0, heel])
+    drift = result.gauge("crest").u[:, 0] - result.gauge("heel").u[:, 0]
+    drift = drift - drift[0]                        # from the static state
+    tension, dam = f["field/principal_max"][:], _dam_cells(f)
+    k = int(np.flatnonzero(dam)[tension[dam].argmax()])
+    centre = xy[f["mesh/cells"][k][f["mesh/cells"][k] >= 0]].mean(axis=0)
+    e = result.energy
+    largest = max(np.abs(e[key]).max() for key in ("kinetic", "strain", "external"))
+    low = np.unravel_index(int(pressure.argmin()), pressure.shape)
+    return (f"crest's peak horizontal acceleration {np.abs(acceleration_of(result)).max() / 9.81:.2f} g, "
+            f"peak horizontal displacement relative to the heel {1e3 * np.abs(drift).max():.1f} mm; "
+            f"heel's "
+            f"peak hydrodynamic pressure {dynamic.max() / 1e3:.0f} kPa at t = "
+            f"{result.time[dynamic.argmax()]:.2f} s (hydrostatic {pressure[0, heel] / 1e3:.1f} kPa); "
+            f"lowest total pressure on the faces {pressure[low] / 1e3:.0f} kPa at "
+            f"({xy[water.nodes[low[1]]][0]:.1f}, {xy[water.nodes[low[1]]][1]:.1f}) m, t = "
+            f"{result.time[low[0]]:.2f} s (below zero: the linear water pulls, no cavitation); "
+            f"largest principal tension in the dam {tension[k] / 1e6:.2f} MPa (cell {k} at "
+            f"({centre[0]:.1f}, {centre[1]:.1f}) m, t = {f['field/principal_max_time'][k]:.2f} s); "
+            f"numerical energy {e['numerical'][-1] / largest:.2g} of the largest "
+            f"({largest / 1e6:.0f} MJ per m)\n\n"
+            "![koyna response](figures/koyna-response.png)")
+
+
 def _rockfill_dam(f, result):
     """Key numbers and the interface figure of rockfill-dam."""
     _interface_figure(result, "rockfill-dam", "rockfill-dam: each interface's slip and "
@@ -633,11 +705,12 @@ KEY = {"bar-wall": _bar_wall, "two-bars": _two_bars, "unequal-bars": _unequal,
        "dam-interface": _dam_interface, "nonlinear-site": _nonlinear_site,
        "rockfill-column": _rockfill_column, "plane-column": _plane_column,
        "dam-modes": _dam_modes, "lamb": _lamb, "gravity-dam": _gravity_dam,
-       "gravity-dam-reservoir": _gravity_dam_reservoir,
+       "gravity-dam-reservoir": _gravity_dam_reservoir, "koyna": _koyna,
        "rockfill-dam": _rockfill_dam, "rockfill-dam-mkz": _rockfill_dam_mkz}
 NEEDS_RESULT = {"rockfill-dam-mkz", "nonlinear-site", "site-response", "uplift", "drop", "pile", "bouncing-bar",
                 "sliding-block", "dam-interface", "rockfill-column", "plane-column",
-                "dam-modes", "lamb", "gravity-dam", "gravity-dam-reservoir", "rockfill-dam"}
+                "dam-modes", "lamb", "gravity-dam", "gravity-dam-reservoir", "koyna",
+                "rockfill-dam"}
 
 
 def main(only=None):

@@ -19,7 +19,7 @@ from vstpetsc.results.spectrum import acceleration
 # bundled case has the strong one), and the shortened runs of this file
 # (the whole record takes half a minute; its strong part is over by 4 s)
 NONLINEAR_WEAK = 0.02
-SHORTENED = {"nonlinear-site": 4.0, "rockfill-dam": 2.6, "rockfill-dam-mkz": 0.5}
+SHORTENED = {"nonlinear-site": 4.0, "rockfill-dam": 2.6, "rockfill-dam-mkz": 0.5, "koyna": 0.8}
 
 
 @pytest.fixture(scope="module")
@@ -763,6 +763,30 @@ def test_gravity_dam_reservoir_rests_on_w_minus_u_and_slides_further(results):
     assert 0 <= e["numerical"][-1] <= 1e-4 * largest and e["numerical"].min() >= -1e-9 * largest
 
 
+def test_koyna_starts_hydrostatic_the_water_answers_and_the_balance_closes(results):
+    """koyna (shortened to 0.8 s): at t = 0 the heel's total pressure is
+    rho |g| 91.75 (the static start: hydrostatic to rounding), every
+    wetted node's too; shaken, the water answers (the heel's dynamic
+    pressure grows to kPa); the balance closes (numerical >= 0 and small
+    against the largest energy)."""
+    r = results["koyna"]
+    water = r.water("reservoir")
+    xy = r.read("mesh/coordinates")[water.nodes[:]]
+    pressure = water.pressure[:]
+    level = r.case().plane.waters[0].level
+    assert level == 91.75
+    assert np.allclose(pressure[0], 1000.0 * 9.81 * (level - xy[:, 1]), rtol=1e-12, atol=1e-6)
+    heel = int(np.flatnonzero(np.hypot(xy[:, 0], xy[:, 1]) < 1e-9)[0])
+    assert pressure[0, heel] == pytest.approx(1000.0 * 9.81 * 91.75, rel=1e-14)
+    dynamic = np.abs(pressure[:, heel] - pressure[0, heel]).max()
+    e = r.energy
+    largest = max(np.abs(e[k]).max() for k in ("kinetic", "strain", "external"))
+    print(f"koyna (0.8 s): heel's dynamic pressure up to {dynamic / 1e3:.4g} kPa, numerical "
+          f"{e['numerical'][-1] / largest:.3g} of the largest energy")
+    assert dynamic > 1e3
+    assert 0 <= e["numerical"][-1] <= 1e-4 * largest and e["numerical"].min() >= -1e-9 * largest
+
+
 def test_rockfill_dam_zones_slide_on_each_other(results):
     """rockfill-dam (shortened to 2.6 s): the core slides against a shell
     and opens near the crest; the laws hold on every interface; the
@@ -803,3 +827,119 @@ def test_rockfill_dam_mkz_yields_and_slides(results):
     largest = max(np.abs(e[k]).max() for k in ("kinetic", "strain", "external"))
     assert e["hysteretic"][-1] > 0 and e["friction"][-1] > 0
     assert e["numerical"].min() >= -1e-9 * largest and e["numerical"][-1] <= 1e-4 * largest
+
+
+# koyna's first frequencies: the dam held along its base ("contact"), its
+# base shaken by a 40 ms triangle of velocity along x; T = 4 s of response
+# (dt 4 ms) resolve 1 / T = 0.25 Hz, the peak is taken on the zero-padded
+# FFT, and the tolerance is half a bin, 0.125 Hz
+KOYNA_RECORD, KOYNA_PULSE = 4.0, [[0.0, 0.0], [0.02, 1.0], [0.04, 0.0]]
+
+
+def koyna_held_at_its_base(full):
+    """koyna's case without records (still from its static start under
+    gravity: the water needs it; linear, so the shaking adds to it), its
+    dam's base ("contact") held and pushed by KOYNA_PULSE along x;
+    ``full``: with its reservoir, else the mesh without it (the dam and its
+    foundation only)."""
+    import tomllib
+
+    data = tomllib.loads(bundled.text("koyna"))
+    data["time"] = {"dt": 4.0e-3, "end": KOYNA_RECORD}
+    data["boundary"] = [{"name": "contact", "type": "velocity",
+                         "value": {"x": KOYNA_PULSE, "y": 0.0}}] + \
+        [{"name": b, "type": "absorbing"} for b in ("base", "left", "right")]
+    if not full:
+        data.pop("water")
+        data["mesh"]["dam"].pop("reservoir")
+    return vstpetsc.Case.from_dict(data, folder=os.path.dirname(bundled.path("koyna")))
+
+
+def crest_peak_frequency(result):
+    """The frequency (Hz) of the largest |V_crest / V_heel| between 1 and
+    6 Hz, the FFTs of the gauges' x velocities zero-padded to 2^16."""
+    crest, heel = result.gauge("crest"), result.gauge("heel")
+    n, dt = 2 ** 16, crest.dt
+    ratio = np.abs(np.fft.rfft(crest.v[:, 0], n) / np.fft.rfft(heel.v[:, 0], n))
+    f = np.fft.rfftfreq(n, dt)
+    band = (f > 1.0) & (f < 6.0)
+    return float(f[band][ratio[band].argmax()])
+
+
+def koyna_matrices(case):
+    """(model, M, C, K): the plane model of ``case`` and its own CSR matrices."""
+    from petsc4py import PETSc
+    from vstpetsc.plane.model import PlaneModel
+
+    model = PlaneModel(case, PETSc.COMM_WORLD)
+    M, C, K = model.matrices()
+    return model, M, C, K
+
+
+def dofs_of(model, nodes, component):
+    """Global dofs of ``nodes`` (as read) along ``component``."""
+    position = np.argsort(model.owned_original)
+    return 2 * position[np.asarray(nodes)] + component
+
+
+def dry_dam_first_frequency(model, M, K):
+    """The lowest eigenfrequency (Hz) of K x = w^2 M x over the dam's
+    nodes, its base ("contact") held: the dam on a rigid base."""
+    import scipy.linalg
+
+    mesh = model.mesh
+    dam = np.unique(mesh.cells[mesh.region == mesh.region_names.index("dam")])
+    dam = np.setdiff1d(dam[dam >= 0], mesh.curves["contact"].ravel())
+    dofs = np.sort(np.concatenate([dofs_of(model, dam, 0), dofs_of(model, dam, 1)]))
+    Md, Kd = (A[dofs][:, dofs].toarray() for A in (M, K))
+    w2 = scipy.linalg.eigh(Kd, Md, eigvals_only=True, subset_by_index=[0, 0])[0]
+    return float(np.sqrt(w2) / (2 * np.pi))
+
+
+def wet_dam_peak_frequency(model, M, C, K, low=1.5, high=4.0):
+    """The frequency (Hz) of the largest crest |u_x| of (K + i w C - w^2 M)
+    u = 0 with the base's x dofs at 1 (its y dofs and every other held dof
+    at 0): over low-high in steps of 0.1 Hz, then 0.01 Hz around the best."""
+    import scipy.sparse.linalg
+
+    mesh = model.mesh
+    free = np.setdiff1d(np.arange(M.shape[0]), model.boundaries.held_dofs()[0])
+    pushed = dofs_of(model, np.unique(mesh.curves["contact"]), 0)
+    crest_node = int(np.hypot(*(mesh.coordinates - [14.8, 103.0]).T).argmin())
+    crest = int(np.searchsorted(free, dofs_of(model, [crest_node], 0)[0]))
+    blocks = [(A[free][:, free].tocsc(), np.asarray(A[free][:, pushed].sum(axis=1)).ravel())
+              for A in (K, C, M)]
+
+    def crest_amplitude(f):
+        factors = (1.0, 2j * np.pi * f, -(2 * np.pi * f) ** 2)
+        A = sum(a * block for a, (block, _) in zip(factors, blocks))
+        rhs = -sum(a * column for a, (_, column) in zip(factors, blocks))
+        return abs(scipy.sparse.linalg.spsolve(A.tocsc(), rhs)[crest])
+
+    def peak_of(frequencies):
+        return float(frequencies[int(np.argmax([crest_amplitude(f) for f in frequencies]))])
+
+    return peak_of(peak_of(np.arange(low, high, 0.1)) + np.arange(-0.1, 0.1001, 0.01))
+
+
+def test_koyna_first_frequency_empty_and_full(tmp_path):
+    """koyna on a rigid base: (empty) the time-domain run's crest peak
+    against the lowest eigenfrequency of the dam's own K, M (its base
+    held); (full, the 91.75 m reservoir) against the peak of the
+    frequency-domain solve with the model's M, C, K (C: the dam's Rayleigh
+    damping, the water's skew coupling, the far end's and the rock's
+    dashpots) over 1.5-4 Hz, to 0.01 Hz); both within half a bin
+    of the 4 s record, 0.125 Hz."""
+    empty, full = koyna_held_at_its_base(False), koyna_held_at_its_base(True)
+    model, M, C, K = koyna_matrices(empty)
+    eigen = dry_dam_first_frequency(model, M, K)
+    timed_empty = crest_peak_frequency(solve(tmp_path, empty, name="empty"))
+    model, M, C, K = koyna_matrices(full)
+    swept = wet_dam_peak_frequency(model, M, C, K)
+    timed_full = crest_peak_frequency(solve(tmp_path, full, name="full"))
+    print(f"koyna: first frequency empty {eigen:.4g} Hz (eigen) / {timed_empty:.4g} Hz (time), "
+          f"full {swept:.4g} Hz (frequency domain) / {timed_full:.4g} Hz (time)")
+    tolerance = 0.5 / KOYNA_RECORD
+    assert abs(timed_empty - eigen) <= tolerance
+    assert abs(timed_full - swept) <= tolerance
+    assert swept < eigen
