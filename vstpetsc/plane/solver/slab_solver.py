@@ -17,13 +17,11 @@ the reactions' work (A x - r on their rows)."""
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc.spacetime import slab
 from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.native import library
 from vstpetsc.petsc.ranks import Ranks
-from vstpetsc.plane.assembly import identity_rows
 from vstpetsc.plane.solver.principal import PrincipalStresses
-from vstpetsc.plane.solver.matrices import petsc_matrix
+from vstpetsc.plane.solver.matrices import petsc_matrix, slab_operator
 from vstpetsc.plane.solver.newton_terms import slab_newton
 from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
 from vstpetsc.results import layout
@@ -49,20 +47,19 @@ class PlaneSolver:
         M, C, K = model.matrices()
         first = model.first
         springs = model.closed_springs()        # interfaces: A_c = A + dt^2 HK (x) springs
-        A = slab.sparse_slab_matrix(M, C, K if springs is None else K + springs, dt)
         held = loads.held
         self.rows = (2 * held[:, None] + np.arange(2)).ravel()
+        self.A = slab_operator(M, C, K if springs is None else K + springs, dt, comm)
         self.M, self.K = petsc_matrix(M, comm), petsc_matrix(K, comm)
         self.C = None if C is None else petsc_matrix(C, comm)
+        model.release_matrices()
         # the unconstrained rows' product gives the reactions of moving held
-        # dofs (on every rank when any rank has some: petsc_matrix is collective)
+        # dofs (on every rank when any rank has some: the copy is collective)
         from mpi4py import MPI
         moving = comm.tompi4py().allreduce(not loads.all_fixed, op=MPI.LOR)
-        self.A_free = petsc_matrix(A, comm) if moving else None
+        self.A_free = self.A.duplicate(copy=True) if moving else None
         self.ax = None if self.A_free is None else self.A_free.createVecLeft()
-        self.A = petsc_matrix(identity_rows(A, self.rows, 4 * first), comm)
-        del A
-        model.release_matrices()
+        self.A.zeroRows((4 * first + self.rows).astype(PETSc.IntType), diag=1.0)
         self.courant = model.courant(dt)
         self.ksp = linear_solver(self.A, comm, self.courant)
         self.x, self.b = self.A.createVecs()
