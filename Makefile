@@ -72,8 +72,8 @@ formulations: install
 figures: install
 	$(PY) docs/make_figures.py
 
-# openseespy (PyPI) for bench/opensees.py, bench/plane_opensees.py and
-# bench/plane_yielding_opensees.py only:
+# openseespy (PyPI) for bench/opensees.py, bench/plane_opensees.py,
+# bench/plane_yielding_opensees.py and bench/plane_acoustic_opensees.py only:
 # `make test` never needs it (their tests skip without it).
 OPENSEES := $(VENV)/.opensees
 
@@ -96,6 +96,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/plane_yielding.py
 	$(PY) bench/plane_yielding_opensees.py
 	$(PY) bench/plane_water.py
+	$(PY) bench/plane_acoustic_opensees.py
 	$(PY) bench/blas_threads.py
 	$(PY) bench/sweep_speed.py
 	$(PY) bench/pile_speed.py
