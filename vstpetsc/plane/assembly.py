@@ -11,19 +11,22 @@ import scipy.sparse as sp
 from vstpetsc.plane import elements
 
 
-def element_matrices(mesh, lam, mu, rho):
+def element_matrices(mesh, lam, mu, rho, within=None):
     """{"triangles": (cells, K_e, M_e), "quadrilaterals": ...}: each kind's
-    cells (indices) and their consistent element matrices."""
+    cells (indices) and their consistent element matrices; with
+    ``within`` = (first, stop), of the cells in that range only."""
     each = lambda a: np.broadcast_to(np.asarray(a, float), (mesh.ncells,))
-    D = elements.elasticity(each(lam), each(mu))
-    rho = each(rho)
+    lam, mu, rho = each(lam), each(mu), each(rho)
     out = {}
     for kind, cells, corners, kernel in (
             ("triangles", mesh.triangles, 3, elements.triangle_matrices),
             ("quadrilaterals", mesh.quadrilaterals, 4, elements.quadrilateral_matrices)):
+        if within is not None:
+            cells = cells[(cells >= within[0]) & (cells < within[1])]
         if cells.size:
             xy = mesh.coordinates[mesh.cells[cells, :corners]]
-            out[kind] = (cells, *kernel(xy, D[cells], rho[cells]))
+            D = elements.elasticity(lam[cells], mu[cells])
+            out[kind] = (cells, *kernel(xy, D, rho[cells]))
     return out
 
 
@@ -37,7 +40,7 @@ def assemble(mesh, blocks, number=None, owned=None, size=None):
     one rank of several, with ``number`` each local node's global number,
     the rows of the global nodes ``owned`` = (first, stop) in global
     columns, (2 owned, 2 size)."""
-    rows, cols, vals = [], [], []
+    rows, cols, vals = [np.zeros(0, int)], [np.zeros(0, int)], [np.zeros(0)]
     first, stop = (0, mesh.nnodes) if owned is None else owned
     for cells, Ke in blocks:
         nodes = mesh.cells[cells, :Ke.shape[1] // 2]

@@ -497,11 +497,52 @@ def check_overlap(case, mesh, infos, nodes, normal):
                      "joint may start pressed, not interpenetrating")
 
 
+CHUNK = 1 << 13         # cells assembled at once: their element matrices' memory bounded
+
+
 def spatial_matrices(mesh, mat, local=None):
     """(M, Rayleigh C or None, K) of ``mesh``'s cells with their materials
     ``mat`` (cell_materials): CSR of all its nodes, or with ``local`` (a
-    LocalMesh) this rank's owned rows in global columns."""
-    parts = assembly.element_matrices(mesh, mat["lam"], mat["mu"], mat["rho"])
+    LocalMesh) this rank's owned rows in global columns; summed over
+    chunks of CHUNK cells (at 1e6 cells the element matrices and their
+    coordinate lists of all cells at once held 7 GB)."""
+    rows = (lambda blocks: assembly.assemble(mesh, blocks)) if local is None else \
+        (lambda blocks: distributed.owned_rows(local, blocks))
+    sums = [PairwiseSum(), PairwiseSum(), PairwiseSum()]
+    for first in range(0, max(mesh.ncells, 1), CHUNK):
+        for total, blocks in zip(sums, _chunk_blocks(mesh, mat, (first, first + CHUNK))):
+            if blocks or total is not sums[1]:
+                total.add(rows(blocks))
+    return tuple(total.result() for total in sums)
+
+
+class PairwiseSum:
+    """A sum of sparse matrices added in pairs of equal counts (a binary
+    counter), so each entry is summed log2(parts) times, not once a part."""
+
+    def __init__(self):
+        self.stack = []             # (how many parts, their sum)
+
+    def add(self, part):
+        count = 1
+        while self.stack and self.stack[-1][0] == count:
+            done, previous = self.stack.pop()
+            part, count = previous + part, count + done
+        self.stack.append((count, part))
+
+    def result(self):
+        """The sum (None if nothing was added)."""
+        total = None
+        for _, part in reversed(self.stack):
+            total = part if total is None else part + total
+        return total
+
+
+def _chunk_blocks(mesh, mat, within):
+    """([(cells, M_e)], [(cells, C_e)] (empty without damping),
+    [(cells, K_e)]) of the cells in the range ``within``: each cell's
+    mass kind, Rayleigh damping, an acoustic water's Laplacian."""
+    parts = assembly.element_matrices(mesh, mat["lam"], mat["mu"], mat["rho"], within)
     mass, stiff, damp = [], [], []
     for cells, Ke, Me in parts.values():
         water = mat["bulk"][cells] > 0          # an acoustic water's cells: its Laplacian
@@ -514,9 +555,7 @@ def spatial_matrices(mesh, mat, local=None):
         a, b = mat["alpha"][cells], mat["beta"][cells]
         if a.any() or b.any():
             damp.append((cells, a[:, None, None] * Me + b[:, None, None] * Ke))
-    rows = (lambda blocks: assembly.assemble(mesh, blocks)) if local is None else \
-        (lambda blocks: distributed.owned_rows(local, blocks))
-    return rows(mass), rows(damp) if damp else None, rows(stiff)
+    return mass, damp, stiff
 
 
 def cell_materials(regions, region):

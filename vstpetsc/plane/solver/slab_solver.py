@@ -21,7 +21,7 @@ from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.native import library
 from vstpetsc.petsc.ranks import Ranks
 from vstpetsc.plane.solver.principal import PrincipalStresses
-from vstpetsc.plane.solver.matrices import petsc_matrix, slab_operator
+from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
 from vstpetsc.plane.solver.newton_terms import slab_newton
 from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
 from vstpetsc.results import layout
@@ -50,8 +50,10 @@ class PlaneSolver:
         held = loads.held
         self.rows = (2 * held[:, None] + np.arange(2)).ravel()
         self.A = slab_operator(M, C, K if springs is None else K + springs, dt, comm)
-        self.M, self.K = petsc_matrix(M, comm), petsc_matrix(K, comm)
-        self.C = None if C is None else petsc_matrix(C, comm)
+        self.M, self.K = node_matrix(M, comm), node_matrix(K, comm)
+        self.C = None if C is None else node_matrix(C, comm)
+        n = M.shape[0]
+        del M, C, K, springs             # the CSR copies go before the factors come
         model.release_matrices()
         # the unconstrained rows' product gives the reactions of moving held
         # dofs (on every rank when any rank has some: the copy is collective)
@@ -67,7 +69,6 @@ class PlaneSolver:
         self.mv, self.ku = self.products.mv, self.products.ku
         self.v_vec, self.u_vec = self.products.v_vec, self.products.u_vec
         self.c1, self.c2 = self.M.createVecs()
-        n = M.shape[0]
         self.u, self.v = np.zeros(n), np.zeros(n)
         self.sums = np.zeros(len(SUMS))
         self.forces = None
