@@ -78,3 +78,55 @@ def test_a_node_matrix_multiplies_as_its_csr():
     scale = (abs(K) @ np.abs(x)).max()
     assert B.getBlockSize() == 2
     assert np.abs(y.getArray() - K @ x).max() <= 18 * np.finfo(float).eps * scale
+
+
+def test_a_solver_stores_what_the_design_says(tmp_path):
+    """A 12 x 8 square of quadrilaterals (117 nodes), absorbing base: the
+    solver keeps the slab matrix as BAIJ(4) with one 4 x 4 block per pair
+    of nodes sharing a cell (9 a node inside, fewer at the edges: the
+    count from the mesh's own node-to-node adjacency), M and K as BAIJ(2)
+    on the same node pairs, C (the base's dashpots) on the base's nodes
+    alone, the stress operator 3 rows a cell; the model has let its CSR
+    copies go; no other PETSc matrix is held by the solver."""
+    from petsc4py import PETSc
+    from vstpetsc.plane.loads import plane_loads
+    from vstpetsc.plane.model import PlaneModel
+    from vstpetsc.plane.solver.slab_solver import PlaneSolver
+
+    case = vstpetsc.Case.from_dict({
+        "time": {"dt": 1e-3, "end": 0.01},
+        "mesh": {"rectangle": {"x": [0.0, 12.0], "y": [0.0, 8.0], "nx": 12, "ny": 8}},
+        "region": [{"name": "domain", "Vs": 200.0, "Vp": 400.0, "rho": 2000.0}],
+        "boundary": [{"name": "bottom", "type": "absorbing"}]})
+    comm = PETSc.COMM_SELF
+    model = PlaneModel(case, comm)
+    solver = PlaneSolver(model, case.dt, comm, plane_loads(model, case.dt))
+    cells = model.local.mesh.cells
+    pairs = sp.csr_matrix((np.ones(cells.size * 4), (np.repeat(cells, 4, axis=1).ravel(),
+                                                     np.tile(cells, (1, 4)).ravel())))
+    blocks = pairs.nnz                          # node pairs sharing a cell (each node with itself)
+    assert blocks == 9 * 77 + 6 * 36 + 4 * 4    # inner nodes, edge nodes, corners
+    held = {name: getattr(solver, name) for name in ("A", "M", "K", "C", "A_free")}
+    assert held["A_free"] is None and model._matrices is None
+    info = lambda A: (A.getType(), A.getBlockSize(), int(A.getInfo()["nz_used"]))
+    assert info(held["A"]) == ("seqbaij", 4, 16 * blocks)
+    assert info(held["M"]) == info(held["K"]) == ("seqbaij", 2, 4 * blocks)
+    base = 13                                   # the dashpots' nodes: one 2 x 2 block each
+    assert info(held["C"]) == ("seqbaij", 2, 4 * base)
+    assert solver.principal.B.getSize()[0] == 3 * 96
+    mats = [v for v in vars(solver).values() if isinstance(v, PETSc.Mat)]
+    assert len(mats) == 4, [m.getType() for m in mats]      # A, M, K, C
+
+
+def test_the_stress_operator_in_chunks_is_the_whole(monkeypatch):
+    """The centre-stress operator of 60 mixed cells formed 7 cells at a time
+    equals the one formed at once, bit for bit (each row its own cell's)."""
+    from vstpetsc.plane import mesh as plane_mesh, principal
+
+    m = plane_mesh.rectangle((0.0, 6.0), (0.0, 5.0), 6, 5, triangles=True)
+    lam, mu = np.linspace(1e9, 2e9, m.ncells), np.linspace(5e8, 9e8, m.ncells)
+    cells = np.random.default_rng(2).permutation(m.ncells)
+    whole = principal.stress_operator(m, lam, mu, cells, np.arange(m.nnodes), 2 * m.nnodes)
+    monkeypatch.setattr(principal, "CHUNK", 7)
+    chunked = principal.stress_operator(m, lam, mu, cells, np.arange(m.nnodes), 2 * m.nnodes)
+    assert np.array_equal(whole.toarray(), chunked.toarray())

@@ -35,31 +35,42 @@ def principal_stresses(stress):
     return centre + radius, centre - radius
 
 
+CHUNK = 1 << 13         # cells whose rows are formed at once (their temporaries bounded)
+
+
 def stress_operator(mesh, lam, mu, cells, dof_of_node, ncolumns):
     """CSR (3 len(cells), ncolumns): u (2 a node, x then y, at ``2
     dof_of_node[node] + c``) to sigma_xx, sigma_yy, sigma_xy at the centre
     of each of ``cells`` of ``mesh`` (Lame's ``lam``, ``mu`` per cell of the
     mesh): D B, B at the centre (exact for a linear displacement; a
-    quadrilateral's at its reference centre), as energy.centre_stress."""
-    row_of = -np.ones(mesh.ncells, dtype=np.int64)
-    row_of[cells] = np.arange(len(cells))
-    D = elements.elasticity(np.broadcast_to(lam, (mesh.ncells,)),
-                            np.broadcast_to(mu, (mesh.ncells,)))
+    quadrilateral's at its reference centre), as energy.centre_stress;
+    formed CHUNK cells at a time."""
+    cells = np.asarray(cells, dtype=np.int64)
+    lam, mu = (np.broadcast_to(np.asarray(a, float), (mesh.ncells,)) for a in (lam, mu))
+    parts = [_stress_rows(mesh, lam, mu, cells[i:i + CHUNK], dof_of_node, ncolumns)
+             for i in range(0, cells.size, CHUNK)]
+    return sp.vstack(parts, format="csr") if parts else sp.csr_matrix((0, ncolumns))
+
+
+def _stress_rows(mesh, lam, mu, cells, dof_of_node, ncolumns):
+    """stress_operator's rows of ``cells`` (in their order)."""
+    position = np.empty(mesh.ncells, dtype=np.int64)
+    position[cells] = np.arange(cells.size)
     rows, cols, values = [], [], []
-    for kind, corners, gradients in ((mesh.triangles, 3, elements.triangle_gradients),
-                                     (mesh.quadrilaterals, 4, elements.centre_gradients)):
-        kind = kind[row_of[kind] >= 0]
+    for corners, gradients in ((3, elements.triangle_gradients), (4, elements.centre_gradients)):
+        kind = cells[(mesh.cells[cells, 3] >= 0) == (corners == 4)]
         if not kind.size:
             continue
         nodes = mesh.cells[kind, :corners]
-        DB = D[kind] @ elements.strain_operator(gradients(mesh.coordinates[nodes]))
+        D = elements.elasticity(lam[kind], mu[kind])
+        DB = D @ elements.strain_operator(gradients(mesh.coordinates[nodes]))
         dofs = (2 * dof_of_node[nodes][:, :, None] + np.arange(2)).reshape(kind.size, 1, -1)
-        where = 3 * row_of[kind][:, None, None] + np.arange(3)[None, :, None]
+        where = 3 * position[kind][:, None, None] + np.arange(3)[None, :, None]
         r, c = np.broadcast_arrays(where, dofs)
         rows.append(r.ravel()), cols.append(c.ravel()), values.append(DB.ravel())
     cat = lambda parts, dtype: np.concatenate(parts) if parts else np.zeros(0, dtype)
     return sp.csr_matrix((cat(values, float), (cat(rows, np.int64), cat(cols, np.int64))),
-                         shape=(3 * len(cells), ncolumns))
+                         shape=(3 * cells.size, ncolumns))
 
 
 class Envelope:
