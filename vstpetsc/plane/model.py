@@ -16,7 +16,7 @@ import scipy.sparse as sp
 
 from vstpetsc.errors import InputError
 from vstpetsc.plane import acoustic, assembly, curves, elements
-from vstpetsc.plane.solver import distributed
+from vstpetsc.plane.solver import distributed, heap
 
 OVERLAP = 0.1       # an interface's starting overlap against its cells' size
 
@@ -262,6 +262,7 @@ class PlaneModel:
         self._matrices = None
         from vstpetsc.plane.gauges import PlaneGauges
         self.gauges = PlaneGauges(self)
+        heap.give_back()                # the mesh's checks' and split's temporaries
 
     def _waters(self, rank0):
         """The WaterRecords of the [[water]] tables (the outputs, rank 0's;
@@ -278,10 +279,9 @@ class PlaneModel:
         counts, self.water_bottoms = self.comm.tompi4py().bcast(
             ([r.nodes.size for r in records], [faces_bottom(self.mesh, s) for s in specs])
             if rank0 else None, root=0)
-        if rank0:
-            return records
-        return [WaterRecord(spec, np.zeros(m, dtype=int), np.zeros(m), np.zeros(2))
-                for spec, m in zip(specs, counts)]
+        return records if rank0 else [
+            WaterRecord(spec, np.zeros(m, dtype=int), np.zeros(m), np.zeros(2))
+            for spec, m in zip(specs, counts)]
 
     def _uplift(self, rank0):
         """(m, 2) each pair's uplift force p_u L n (vstpetsc.plane.uplift),

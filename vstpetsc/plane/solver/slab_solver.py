@@ -21,6 +21,7 @@ from vstpetsc.errors import InputError, SolveFailed
 from vstpetsc.native import library
 from vstpetsc.petsc.ranks import Ranks
 from vstpetsc.plane.solver.principal import PrincipalStresses
+from vstpetsc.plane.solver.heap import give_back
 from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
 from vstpetsc.plane.solver.newton_terms import slab_newton
 from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
@@ -55,6 +56,7 @@ class PlaneSolver:
         n = M.shape[0]
         del M, C, K, springs             # the CSR copies go before the factors come
         model.release_matrices()
+        give_back()
         # the unconstrained rows' product gives the reactions of moving held
         # dofs (on every rank when any rank has some: the copy is collective)
         from mpi4py import MPI
