@@ -45,6 +45,25 @@ class WorkerChild:
         self.proc.wait(timeout=self.close_timeout)
 
 
+class SystemChild(WorkerChild):
+    """A WorkerChild whose answers carry OpenSees' version, that probes its
+    linear ``systems`` on a job and keeps the fastest for the next jobs."""
+
+    def __init__(self, script, systems):
+        super().__init__(script, quiet=True, close_timeout=60)
+        self.system, self.version = systems[0], None
+
+    def ask(self, job):
+        got = super().ask(job)
+        self.version = got.pop("version")
+        return got
+
+    def probe(self, job):
+        times = self.ask({"probe": job})["systems"]
+        self.system = min((t, s) for s, t in times.items())[1]
+        return times
+
+
 def serve(answer):
     """The child's loop: one JSON job a line on stdin, ``answer(job)`` (a
     dict) one JSON line on stdout, flushed at once (the parent waits on it)."""

@@ -325,23 +325,13 @@ def worker():
     return common.serve(opensees_answer)
 
 
-class OpenSeesChild(common.WorkerChild):
+class OpenSeesChild(common.SystemChild):
     """The child running OpenSees jobs, with the system ``probe`` found
     fastest; answers (seconds, the top's absolute v_x or None)."""
 
     def __init__(self):
-        super().__init__(__file__, quiet=True, close_timeout=60)
-        self.system, self.version, self.parser = OS_SYSTEMS[0], None, None
-
-    def ask(self, job):
-        got = super().ask(job)
-        self.version = got.pop("version")
-        return got
-
-    def probe(self, job):
-        times = self.ask({"probe": job})["systems"]
-        self.system = min((t, s) for s, t in times.items())[1]
-        return times
+        super().__init__(__file__, OS_SYSTEMS)
+        self.parser = None
 
     def __call__(self, job):
         got = self.ask({**job, "system": self.system})

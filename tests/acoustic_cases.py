@@ -30,7 +30,7 @@ def reservoir_mesh(H, L, nx, ny, T=None):
     return PlaneMesh(coordinates, m.cells, region, ("dam", "water"), curves)
 
 
-CASE = """
+DAM = """
 [time]
 dt = {dt}
 end = {end}
@@ -43,7 +43,8 @@ name = "dam"
 E = 3.0e10
 nu = 0.2
 rho = 2400.0
-[[boundary]]
+"""
+CASE = DAM + """[[boundary]]
 name = "face"
 type = "velocity"
 value = {{ x = {vx}, y = 0.0 }}
@@ -80,20 +81,7 @@ def reservoir_case(tmp_path, H, L, nx, ny, dt, end, vx, name="reservoir", every=
     return path
 
 
-FREE = """
-[time]
-dt = {dt}
-end = {end}
-[output]
-every = {every}
-[mesh]
-file = "{mesh}"
-[[region]]
-name = "dam"
-E = 1.0e8
-nu = 0.2
-rho = 2400.0
-v0 = [1.0, 0.0]
+FREE = DAM.replace("E = 3.0e10", "E = 1.0e8") + """v0 = [1.0, 0.0]
 [gravity]
 g = 0.0
 [[water]]
