@@ -91,6 +91,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/friction_cost.py 64 7
 	$(PY) bench/plane_solvers.py 10000 100000 --courant 1,4
 	$(PY) bench/plane_slab.py
+	$(PY) bench/plane_memory.py
 	$(PY) bench/plane_parallel.py
 	$(PY) bench/plane_interfaces.py
 	$(PY) bench/plane_yielding.py
