@@ -419,7 +419,6 @@ class PlaneModel:
         return u, v
 
 
-
 def hold_water(model):
     """Hold an acoustic water's free surface (p = 0) and every water
     node's y slot (vstpetsc.plane.acoustic) among the model's boundaries."""
@@ -451,6 +450,7 @@ def water_damping(model):
     keep = (rows >= 2 * first) & (rows < 2 * (first + nown))
     return sp.csr_matrix((values[keep], (rows[keep] - 2 * first, cols[keep])),
                          shape=(2 * nown, 2 * model.nnodes))
+
 
 def region_state(mesh, regions):
     """(u, v, the region each node takes them from) (nn, 2), (nn, 2), (nn,)

@@ -34,12 +34,6 @@ def wetted_names(specs):
     return [name for s in acoustic_specs(specs) for name in s.faces]
 
 
-def _edge_counts(mesh):
-    """(sorted edge keys, how many cells hold each)."""
-    _, a, b = mesh.edges()
-    return np.unique(mesh.edge_keys(a, b), return_counts=True)
-
-
 def _cells_beside(mesh, edges):
     """(m, 2) the regions of the cells on the two sides of each edge (-1:
     none, the mesh's boundary)."""
