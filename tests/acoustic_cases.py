@@ -30,6 +30,16 @@ def reservoir_mesh(H, L, nx, ny, T=None):
     return PlaneMesh(coordinates, m.cells, region, ("dam", "water"), curves)
 
 
+WATER = """[[water]]
+name = "reservoir"
+level = {H}
+faces = ["face"]
+hydrodynamic = "acoustic"
+region = "water"
+bulk = {bulk}
+{far}
+{bottom}
+"""
 DAM = """
 [time]
 dt = {dt}
@@ -55,16 +65,7 @@ value = {{ x = {vx}, y = 0.0 }}
 [gravity]
 g = -9.81
 initial = "{initial}"
-[[water]]
-name = "reservoir"
-level = {H}
-faces = ["face"]
-hydrodynamic = "acoustic"
-region = "water"
-bulk = {bulk}
-{far}
-{bottom}
-"""
+""" + WATER
 
 
 def reservoir_case(tmp_path, H, L, nx, ny, dt, end, vx, name="reservoir", every=1,
@@ -84,16 +85,7 @@ def reservoir_case(tmp_path, H, L, nx, ny, dt, end, vx, name="reservoir", every=
 FREE = DAM.replace("E = 3.0e10", "E = 1.0e8") + """v0 = [1.0, 0.0]
 [gravity]
 g = 0.0
-[[water]]
-name = "reservoir"
-level = {H}
-faces = ["face"]
-hydrodynamic = "acoustic"
-region = "water"
-bulk = 2.25e7
-far = "far"
-bottom = {{ name = "bottom", alpha = 0.5 }}
-"""
+""" + WATER
 
 
 def free_dam_case(tmp_path, dt, end, name="free", H=10.0, L=20.0):
@@ -103,7 +95,9 @@ def free_dam_case(tmp_path, dt, end, name="free", H=10.0, L=20.0):
     half-absorbing bottom."""
     mesh = write_gmsh22(tmp_path / f"{name}.msh", reservoir_mesh(H, L, 4, 3, T=3.0))
     path = tmp_path / f"{name}.toml"
-    path.write_text(FREE.format(dt=dt, end=end, every=int(round(end / dt)), mesh=mesh, H=H))
+    path.write_text(FREE.format(dt=dt, end=end, every=int(round(end / dt)), mesh=mesh, H=H,
+                                bulk=2.25e7, far='far = "far"',
+                                bottom='bottom = { name = "bottom", alpha = 0.5 }'))
     return path
 
 
