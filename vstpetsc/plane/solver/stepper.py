@@ -15,17 +15,17 @@ bare M, K for the tests and benches that need no case."""
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc.spacetime import slab
-from vstpetsc.plane.assembly import identity_rows
-from vstpetsc.plane.solver.matrices import petsc_matrix
+from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
 
 PREFIX = "vst_plane_"
 
 
 def _held_rows(A, held, first):
-    """A (CSR, owned rows) with the held spatial dofs' rows made identities."""
+    """The owned slab rows of the held spatial dofs ``held`` (global, the
+    rank's first dof ``first``), made identities in PETSc's A."""
     rows = (2 * (np.asarray(held, dtype=int) - first)[:, None] + np.arange(2)).ravel()
-    return identity_rows(A, rows, 2 * first), rows
+    A.zeroRows((2 * first + rows).astype(PETSc.IntType), diag=1.0)
+    return rows
 
 
 # On several ranks, slabs of c dt / h (P wave) up to this take GMRES with
@@ -108,9 +108,9 @@ class PlaneSlabs:
     def __init__(self, M, C, K, dt, held=(), comm=None, first=0):
         comm = comm or PETSc.COMM_SELF
         self.dt = dt
-        A, self.rows = _held_rows(slab.sparse_slab_matrix(M, C, K, dt), held, first)
-        self.A = petsc_matrix(A, comm)
-        self.products = StateProducts(petsc_matrix(M, comm), petsc_matrix(K, comm))
+        self.A = slab_operator(M, C, K, dt, comm)
+        self.rows = _held_rows(self.A, held, first)
+        self.products = StateProducts(node_matrix(M, comm), node_matrix(K, comm))
         self.ksp = linear_solver(self.A, comm)
         self.x, self.b = self.A.createVecs()
 
