@@ -33,7 +33,8 @@ def petsc_matrix(A, comm=None):
 def node_matrix(A, comm=None):
     """PETSc's BAIJ of block size 2 (a node's x and y) of a spatial CSR
     matrix over interleaved dofs: owned rows, global columns (a quarter
-    less memory than its AIJ; the products the same sums)."""
+    less memory than its AIJ; its products equal the AIJ's to rounding:
+    a row's sums in another order)."""
     B = sp.csr_matrix(A).tobsr(blocksize=(2, 2))
     B.sort_indices()
     n, N = B.shape
