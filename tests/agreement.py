@@ -65,13 +65,17 @@ def field_scale(data, key):
     """The largest |value| of the field a dataset holds: its own, or, for
     one envelope of a pair (``stress_min``, ``stress_max``), of both (an
     envelope that stays small beside the other is rounding of the field,
-    not of itself); for a 2-D interface's ``slip`` or ``gap``, of both:
-    each is a relative displacement of the same node pairs, and a joint
-    that sticks has a slip of the displacements' rounding (rockfill-dam-mkz
-    at 0.3 s: 4e-11 m of slip beside 2.7 mm of opening)."""
+    not of itself); for a 2-D interface's ``slip``, ``gap`` or ``stretch``,
+    of all three: each is a relative displacement of the same node pairs,
+    and a joint that sticks has a slip of the displacements' rounding
+    (rockfill-dam-mkz at 0.3 s: 4e-11 m of slip beside 2.7 mm of opening;
+    gravity-dam-reservoir's stick springs' stretch on two ranks 1.3e-10 of
+    its own largest, with the redundant LU)."""
     own = np.nanmax(np.abs(data[key]))
-    for end, other in (("_min", "_max"), ("_max", "_min"), ("/slip", "/gap"),
-                       ("/gap", "/slip")):
+    relative = ("/slip", "/gap", "/stretch")
+    pairs = [("_min", "_max"), ("_max", "_min")] + \
+        [(end, other) for end in relative for other in relative if other != end]
+    for end, other in pairs:
         if key.endswith(end) and key[:-len(end)] + other in data and \
                 (end[0] == "_" or key.startswith("interface/")):
             own = max(own, np.nanmax(np.abs(data[key[:-len(end)] + other])))

@@ -3,8 +3,8 @@ on 1, 2 and 3 ranks (quadrilaterals, triangles, and the mixed dam
 section): each rank's owned rows of M and K are the serial matrices'
 (their products with a field, vertex by vertex), the regions' areas and
 the curves' edges survive the distribution, and slabs of free vibration
-on several ranks (MUMPS's LU) reach the one-rank run (PETSc's LU) to
-rounding."""
+on several ranks (the default: every rank's LU of the whole slab
+matrix) reach the one-rank run (PETSc's LU) to rounding."""
 
 import sys
 
