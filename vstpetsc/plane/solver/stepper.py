@@ -1,14 +1,16 @@
 """Slabs of a plane-strain model in the plain algebra of formulation.md:
 A x = R (u^n, v^{n-}) with A = HM (x) M + dt HC (x) C + dt^2 HK (x) K
-(vstpetsc.spacetime.slab.sparse_slab_matrix: the 1-D time algebra, any geometry),
-factored once; held dofs keep zero velocity (identity rows).
+(vstpetsc.spacetime.slab's time algebra; stored in 4 x 4 node blocks,
+vstpetsc.plane.solver.matrices), factored once; held dofs keep zero
+velocity (identity rows).
 
 On one rank the spatial matrices are whole CSR; on several each rank
 gives the CSR of the rows it owns (global columns; its dofs from
 ``first``), vstpetsc.plane.solver.distributed.  The linear solver: options
 prefix ``vst_plane_``; by default PETSc's LU (nested dissection) on one
-rank, on several GMRES with ASM(ILU(0)) blocks up to Vp dt / h = 2 and
-MUMPS's LU beyond (bench/plane_solvers.py measures the choices).  A run
+rank, on several GMRES with ASM(ILU(0)) blocks up to Vp dt / h = 2,
+beyond every rank's LU of the whole matrix up to REDUNDANT_UNKNOWNS and
+MUMPS's LU above (bench/plane_solvers.py measures the choices).  A run
 uses the linear solver through vstpetsc.plane.solver.slab_solver; PlaneSlabs steps
 bare M, K for the tests and benches that need no case."""
 
@@ -32,7 +34,7 @@ def _held_rows(A, held, first):
 # overlapping Schwarz (ASM) blocks of ILU(0): at c dt / h = 1 it solves a
 # slab 1.5 times as fast as MUMPS on two ranks and ILU keeps its 6
 # iterations; beyond, its iterations grow (15 at 4, 91 at 16) while the
-# factors cost the same, and MUMPS is the default (bench/README.md).
+# factors cost the same, and an LU is the default (bench/README.md).
 SCHWARZ_COURANT = 2.0
 SCHWARZ_OVERLAP = 2
 KRYLOV_RTOL = 1e-12
