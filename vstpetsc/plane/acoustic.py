@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vstpetsc.plane import elements
+from vstpetsc.plane.boundaries import edge_frames
 
 LEVEL = 1e-9        # the free surface's nodes: within this of the water's height
 
@@ -71,9 +72,8 @@ def held_nodes(mesh, specs):
     waters: the nodes whose w and whose y slot are held at zero."""
     surface, every = [], []
     for spec in specs:
-        index = mesh.region_names.index(spec.acoustic.region) \
-            if spec.acoustic.region in mesh.region_names else -1
-        nodes = np.flatnonzero(water_nodes(mesh, [index]))
+        # every rank's mesh names every region (distributed: the names broadcast)
+        nodes = np.flatnonzero(water_nodes(mesh, [mesh.region_names.index(spec.acoustic.region)]))
         top = mesh.coordinates[nodes, 1] >= spec.level - surface_tolerance(spec.level)
         surface.append(nodes[top])
         every.append(nodes)
@@ -121,11 +121,11 @@ def edge_dashpots(mesh, edges, coefficient):
     of each node of ``edges`` (m, 2), by tributary length."""
     if not len(edges):
         return np.zeros(0, dtype=int), np.zeros(0)
-    xy = mesh.coordinates[edges]
-    half = 0.5 * np.hypot(*(xy[:, 1] - xy[:, 0]).T)
-    return 2 * edges.ravel(), coefficient * np.repeat(half, 2)
+    length, _, _ = edge_frames(mesh, edges)
+    return 2 * edges.ravel(), coefficient * np.repeat(0.5 * length, 2)
 
 
-def dynamic_pressure(rho, c, w):
-    """p = -rho c w (0.0, not -0.0, where w is 0)."""
-    return -rho * c * w + 0.0
+def dynamic_pressure(impedance, w):
+    """p = -rho c w of the water's ``impedance`` rho c (0.0, not -0.0,
+    where w is 0)."""
+    return -impedance * w + 0.0

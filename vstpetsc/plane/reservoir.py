@@ -194,7 +194,7 @@ class DynamicPart:
         """(p (m,) at the record's nodes, the resultant (2,) on the solid)
         of the velocities v (nn, 2): p = -rho c w, force = sum push w."""
         w = v[:, 0]
-        return acoustic.dynamic_pressure(self.impedance, 1.0, w[self.partner]), \
+        return acoustic.dynamic_pressure(self.impedance, w[self.partner]), \
             self.push.T @ w[self.water] + 0.0
 
 
