@@ -20,17 +20,19 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SIZES = (10_000, 100_000, 1_000_000)
-FORMS = {"BAIJ(4)": "1", "AIJ": "0"}
+# each form's options (prefix vst_plane_)
+FORMS = {"BAIJ(4)": {"blocks": "1"}, "AIJ": {"blocks": "0"},
+         "matrix-free": {"blocks": "1", "matrix_free": "1"}}
 REPEATS = 3
 
 
-def child(cells, blocks):
+def child(cells, form):
     """In the child process: one size and form, its figures as JSON."""
     from petsc4py import PETSc
 
     opts = PETSc.Options()
-    for key, value in (("ksp_type", "gmres"), ("pc_type", "ilu"), ("ksp_rtol", "1e-12"),
-                       ("blocks", blocks)):
+    for key, value in [("ksp_type", "gmres"), ("pc_type", "ilu"), ("ksp_rtol", "1e-12")] + \
+            list(FORMS[form].items()):
         opts[f"vst_plane_{key}"] = value
     import plane_slab
 
@@ -39,6 +41,7 @@ def child(cells, blocks):
     times = [plane_slab.slabs(solver, loads, plane_slab.BATCH * k) for k in range(REPEATS)]
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024       # kB on Linux
     print(json.dumps({"cells": cells, "nodes": int(solver.model.nnodes), "peak": peak,
+                      "iterations": solver.ksp.getIterationNumber(),
                       "setup": setup, "min_ms": 1e3 * min(times),
                       "median_ms": 1e3 * statistics.median(times)}))
 
@@ -46,8 +49,8 @@ def child(cells, blocks):
 def measure(sizes):
     rows = []
     for cells in sizes:
-        for form, blocks in FORMS.items():
-            out = subprocess.run([sys.executable, __file__, "--child", str(cells), blocks],
+        for form in FORMS:
+            out = subprocess.run([sys.executable, __file__, "--child", str(cells), form],
                                  capture_output=True, text=True, check=True, cwd=HERE)
             row = json.loads(out.stdout.strip().splitlines()[-1])
             row["form"] = form

@@ -44,33 +44,38 @@ def stress_operator(mesh, lam, mu, cells, dof_of_node, ncolumns):
     of each of ``cells`` of ``mesh`` (Lame's ``lam``, ``mu`` per cell of the
     mesh): D B, B at the centre (exact for a linear displacement; a
     quadrilateral's at its reference centre), as energy.centre_stress;
-    formed CHUNK cells at a time."""
+    its rows those of stress_rows."""
+    parts = list(stress_rows(mesh, lam, mu, cells, dof_of_node))
+    if not parts:
+        return sp.csr_matrix((0, ncolumns))
+    rows = np.concatenate([np.repeat(r, v.shape[1]) for r, _, v in parts])
+    columns = np.concatenate([c.ravel() for _, c, _ in parts])
+    values = np.concatenate([v.ravel() for _, _, v in parts])
+    return sp.csr_matrix((values, (rows, columns)), shape=(3 * len(cells), ncolumns))
+
+
+def stress_rows(mesh, lam, mu, cells, dof_of_node):
+    """stress_operator's entries, CHUNK cells at a time and one cell shape
+    at a time: (rows (n,), columns (n, k), values (n, k)), each row a
+    cell's (3 i + component for the cell cells[i]) with its k = 2 x
+    corners columns."""
     cells = np.asarray(cells, dtype=np.int64)
     lam, mu = (np.broadcast_to(np.asarray(a, float), (mesh.ncells,)) for a in (lam, mu))
-    parts = [_stress_rows(mesh, lam, mu, cells[i:i + CHUNK], dof_of_node, ncolumns)
-             for i in range(0, cells.size, CHUNK)]
-    return sp.vstack(parts, format="csr") if parts else sp.csr_matrix((0, ncolumns))
-
-
-def _stress_rows(mesh, lam, mu, cells, dof_of_node, ncolumns):
-    """stress_operator's rows of ``cells`` (in their order)."""
-    position = np.empty(mesh.ncells, dtype=np.int64)
-    position[cells] = np.arange(cells.size)
-    rows, cols, values = [], [], []
-    for corners, gradients in ((3, elements.triangle_gradients), (4, elements.centre_gradients)):
-        kind = cells[(mesh.cells[cells, 3] >= 0) == (corners == 4)]
-        if not kind.size:
-            continue
-        nodes = mesh.cells[kind, :corners]
-        D = elements.elasticity(lam[kind], mu[kind])
-        DB = D @ elements.strain_operator(gradients(mesh.coordinates[nodes]))
-        dofs = (2 * dof_of_node[nodes][:, :, None] + np.arange(2)).reshape(kind.size, 1, -1)
-        where = 3 * position[kind][:, None, None] + np.arange(3)[None, :, None]
-        r, c = np.broadcast_arrays(where, dofs)
-        rows.append(r.ravel()), cols.append(c.ravel()), values.append(DB.ravel())
-    cat = lambda parts, dtype: np.concatenate(parts) if parts else np.zeros(0, dtype)
-    return sp.csr_matrix((cat(values, float), (cat(rows, np.int64), cat(cols, np.int64))),
-                         shape=(3 * cells.size, ncolumns))
+    for first in range(0, cells.size, CHUNK):
+        part = cells[first:first + CHUNK]
+        for corners, gradients in ((3, elements.triangle_gradients),
+                                   (4, elements.centre_gradients)):
+            where = np.flatnonzero((mesh.cells[part, 3] >= 0) == (corners == 4))
+            if not where.size:
+                continue
+            kind = part[where]
+            nodes = mesh.cells[kind, :corners]
+            D = elements.elasticity(lam[kind], mu[kind])
+            DB = D @ elements.strain_operator(gradients(mesh.coordinates[nodes]))
+            dofs = (2 * dof_of_node[nodes][:, :, None] + np.arange(2)).reshape(kind.size, 1, -1)
+            rows = 3 * (first + where)[:, None] + np.arange(3)
+            yield (rows.ravel(), np.broadcast_to(dofs, DB.shape).reshape(-1, 2 * corners),
+                   DB.reshape(-1, 2 * corners))
 
 
 class Envelope:

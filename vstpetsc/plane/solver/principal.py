@@ -8,7 +8,7 @@ takes the yielding cells, whose law it holds."""
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc.plane.principal import DATASETS, Envelope, stress_operator
+from vstpetsc.plane.principal import DATASETS, Envelope, stress_rows
 
 
 class PrincipalStresses:
@@ -22,14 +22,7 @@ class PrincipalStresses:
         local = model.local
         yielding = np.array([r.shear_law is not None for r in model.regions], dtype=bool)
         own = np.flatnonzero(local.owned_cells & ~yielding[local.mesh.region])
-        ncolumns = 2 * local.size
-        B = stress_operator(local.mesh, model.materials["lam"], model.materials["mu"], own,
-                            local.global_vertex, ncolumns)
-        B.sort_indices()
-        self.B = PETSc.Mat().createAIJ(
-            ((B.shape[0], PETSc.DECIDE), (2 * (local.stop - local.start), ncolumns)),
-            comm=comm, csr=(B.indptr.astype(PETSc.IntType), B.indices.astype(PETSc.IntType),
-                            B.data))
+        self.B = _stress_matrix(model, own, comm)
         self.u_vec, self.stress_vec = self.B.createVecs()
         self.linear = Envelope(local.original_cells[own])
         zone = model.zone
@@ -79,3 +72,31 @@ class PrincipalStresses:
         for cells, values in (p for rank in parts for p in rank):
             out[:, cells] = values
         return dict(zip(DATASETS, out))
+
+
+def _stress_matrix(model, cells, comm):
+    """PETSc's AIJ of the centre stresses of this rank's ``cells`` (its
+    local numbers) from its owned u: stress_operator's rows, set a chunk
+    of cells at a time into the preallocated matrix (no whole copy beside
+    PETSc's)."""
+    local = model.local
+    nodes = local.mesh.cells[cells]
+    number = local.global_vertex[nodes]
+    real = nodes >= 0                                    # (a triangle's fourth is -1)
+    mine = real & (number >= local.start) & (number < local.stop)
+    inside, outside = (np.repeat(2 * k.sum(axis=1), 3).astype(PETSc.IntType)
+                       for k in (mine, real & ~mine))     # each row's columns by owner
+    owned = 2 * (local.stop - local.start)
+    B = PETSc.Mat().createAIJ(((inside.size, PETSc.DECIDE), (owned, 2 * local.size)),
+                              comm=comm)
+    B.setPreallocationNNZ((inside, outside))
+    first = B.getOwnershipRange()[0]
+    for rows, columns, values in stress_rows(local.mesh, model.materials["lam"],
+                                             model.materials["mu"], cells, local.global_vertex):
+        order = np.argsort(columns, axis=1, kind="stable")      # (rows' columns sorted)
+        B.setValuesRCV((first + rows).astype(PETSc.IntType)[:, None],
+                       np.take_along_axis(columns, order, 1).astype(PETSc.IntType),
+                       np.take_along_axis(values, order, 1))
+    B.assemble()
+    return B
+

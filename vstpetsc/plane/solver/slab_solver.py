@@ -24,6 +24,7 @@ from vstpetsc.plane.solver.principal import PrincipalStresses
 from vstpetsc.plane.solver.heap import give_back
 from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
 from vstpetsc.plane.solver.newton_terms import slab_newton
+from vstpetsc.plane.solver.slab_product import run_operators
 from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
 from vstpetsc.results import layout
 
@@ -50,22 +51,27 @@ class PlaneSolver:
         springs = model.closed_springs()        # interfaces: A_c = A + dt^2 HK (x) springs
         held = loads.held
         self.rows = (2 * held[:, None] + np.arange(2)).ravel()
-        self.A = slab_operator(M, C, K if springs is None else K + springs, dt, comm)
+        A = slab_operator(M, C, K if springs is None else K + springs, dt, comm)
         self.M, self.K = node_matrix(M, comm), node_matrix(K, comm)
         self.C = None if C is None else node_matrix(C, comm)
         n = M.shape[0]
-        del M, C, K, springs             # the CSR copies go before the factors come
+        del M, C, K             # the CSR copies go before the factors come
         model.release_matrices()
         give_back()
         # the unconstrained rows' product gives the reactions of moving held
         # dofs (on every rank when any rank has some: the copy is collective)
         from mpi4py import MPI
         moving = comm.tompi4py().allreduce(not loads.all_fixed, op=MPI.LOR)
-        self.A_free = self.A.duplicate(copy=True) if moving else None
+        self.A, P, self.A_free = run_operators(A, (self.M, self.C, self.K), springs, dt,
+                                               self.rows, first, moving, comm)
+        del A, springs
         self.ax = None if self.A_free is None else self.A_free.createVecLeft()
-        self.A.zeroRows((4 * first + self.rows).astype(PETSc.IntType), diag=1.0)
         self.courant = model.courant(dt)
-        self.ksp = linear_solver(self.A, comm, self.courant)
+        self.ksp = linear_solver(P, comm, self.courant, None if P is self.A else self.A)
+        if P is not self.A:     # matrix-free: A goes now (the factors hold their own values;
+            P.destroy()         # petsc4py 3.18 would keep what Python lets go till PETSc ends)
+            give_back()
+        del P
         self.x, self.b = self.A.createVecs()
         self.products = StateProducts(self.M, self.K)
         self.mv, self.ku = self.products.mv, self.products.ku
@@ -89,6 +95,8 @@ class PlaneSolver:
         kind = self.ksp.getType() + "/" + pc.getType()
         if pc.getType() == "lu":
             kind += f" ({pc.getFactorSolverType()})"
+        if self.A.getType() == "python":
+            kind += ", matrix-free products"
         return f"plane strain, {kind}, Vp dt / h up to {self.courant:.3g}"
 
     def set_state(self, u, v, envelopes=None):

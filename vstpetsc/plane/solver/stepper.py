@@ -45,6 +45,10 @@ KRYLOV_RTOL = 1e-12
 # for bit; larger, MUMPS (its factors shared out: at 2e5 cells 2.2 GB a
 # rank against the redundant LU's 3.5, set-up 15 against 63 s).
 REDUNDANT_UNKNOWNS = 400_000
+# preconditioners whose set-up holds what they apply (factors, blocks of
+# their own): once set up they need no more of the slab matrix (a Jacobi
+# takes its diagonal at its first application)
+SETTLED = ("ilu", "lu", "icc", "cholesky", "asm", "bjacobi", "redundant")
 
 
 def default_solver(ksp, comm, courant):
@@ -66,17 +70,19 @@ def default_solver(ksp, comm, courant):
         pc.setFactorSolverType("mumps")
 
 
-def linear_solver(A, comm, courant=None):
+def linear_solver(A, comm, courant=None, operator=None):
     """The KSP of the slab matrix A (options prefix ``vst_plane_``), set up
     (factored) here, once: PETSc's LU in nested dissection on one rank; on
     several, GMRES with ASM(ILU(0)) blocks for slabs of c dt / h up to
     SCHWARZ_COURANT (``courant``, None: unknown) and beyond every rank's
     LU of the whole matrix up to REDUNDANT_UNKNOWNS, MUMPS's LU above;
-    any option of the database overrides it."""
+    any option of the database overrides it.  With ``operator`` (the
+    slab's product without A: vstpetsc.plane.solver.slab_product) A serves
+    to set up the preconditioner alone, and the KSP lets it go then."""
     opts = PETSc.Options()
     ksp = PETSc.KSP().create(comm=comm)
     ksp.setOptionsPrefix(PREFIX)
-    ksp.setOperators(A)
+    ksp.setOperators(operator or A, A)
     default_solver(ksp, comm, courant)
     ksp.setFromOptions()
     pc = ksp.getPC()
@@ -87,6 +93,11 @@ def linear_solver(A, comm, courant=None):
             not opts.hasName(PREFIX + "pc_factor_mat_ordering_type"):
         pc.setFactorOrdering("nd")
     ksp.setUp()
+    if operator is not None and pc.getType() in SETTLED:
+        # the preconditioner is built, its factors hold their own values:
+        # kept as it is while A goes (PCSetUp returns at once when reused)
+        pc.setReusePreconditioner(True)
+        ksp.setOperators(operator, operator)
     return ksp
 
 
