@@ -239,3 +239,31 @@ def test_what_python_lets_go_is_released(tmp_path):
                                        text=True, check=True).stdout)
              for how in ("release", "del")}
     assert freed["release"] > 0.9 and freed["del"] < 0.5, freed
+
+
+def test_the_stress_matrix_is_the_stress_operator():
+    """The solver's centre-stress matrix, set into PETSc a chunk of cells
+    at a time (chunks of 7 cells here), holds stress_operator's entries
+    bit for bit, and its rows' entry counts are its cells' (no room
+    preallocated beyond them)."""
+    from vstpetsc.plane import principal
+    from vstpetsc.plane.model import PlaneModel
+    from vstpetsc.plane.solver.principal import PrincipalStresses
+
+    case = vstpetsc.Case.from_dict({
+        "time": {"dt": 1e-3, "end": 0.01},
+        "mesh": {"rectangle": {"x": [0.0, 6.0], "y": [0.0, 5.0], "nx": 6, "ny": 5,
+                               "triangles": True}},
+        "region": [{"name": "domain", "Vs": 200.0, "Vp": 400.0, "rho": 2000.0}]})
+    model = PlaneModel(case, PETSc.COMM_SELF)
+    saved, principal.CHUNK = principal.CHUNK, 7
+    try:
+        B = PrincipalStresses(model, case.dt, PETSc.COMM_SELF).B
+    finally:
+        principal.CHUNK = saved
+    local = model.local
+    cells = np.arange(local.mesh.ncells)
+    whole = principal.stress_operator(local.mesh, model.materials["lam"], model.materials["mu"],
+                                      cells, local.global_vertex, 2 * local.size)
+    assert np.array_equal(as_dense(B), whole.toarray())
+    assert int(B.getInfo()["nz_allocated"]) == whole.nnz == 3 * 6 * cells.size
