@@ -96,6 +96,29 @@ def test_misspelled_set_key_is_refused_up_front(tmp_path):
         case.check_path(path)
 
 
+def test_plane_tables_are_reached_by_name(tmp_path):
+    """A 2-D case's [[interface]] and [[water]] by name or index, as
+    [[region]] and [[boundary]]: a friction or a water level sweeps (they
+    were "not a table"); a name the case has not, a misspelled key, or a
+    [[water]] in a case without one: one line, exit 2, nothing run."""
+    from vstpetsc import bundled
+
+    dam = vstpetsc.Case.from_toml(bundled.path("gravity-dam-reservoir"))
+    assert dam.with_value("interface.contact.friction", 0.45).plane.interfaces[0].friction == 0.45
+    assert dam.with_value("interface.0.friction", 0.5).plane.interfaces[0].friction == 0.5
+    assert dam.with_value("water.reservoir.level", 30.0).plane.waters[0].level == 30.0
+    for path in ("interface.contact.penalty", "water.0.uplift", "region.dam.E"):
+        dam.check_path(path)
+    dry = tmp_path / "dry.toml"
+    assert cli("example", "gravity-dam", "-o", dry).returncode == 0
+    for path, words in (("interface.base.friction", "no interface with name or index 'base'"),
+                        ("interface.contact.frction", "unknown key (did you mean 'friction'?"),
+                        ("water.0.level", "water.0.level: water is not a table")):
+        p = cli("sweep", dry, "--set", f"{path}=0.5,0.6", "-o", tmp_path / "s")
+        assert one_line(p, 2, words), (path, p.stderr)
+        assert not (tmp_path / "s").exists()
+
+
 def test_output_that_cannot_be_a_folder(tmp_path):
     case = write_case(tmp_path, wall_case())
     taken = tmp_path / "taken"

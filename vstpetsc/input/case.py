@@ -19,8 +19,12 @@ import tomllib
 from vstpetsc.input import schema, toml_text
 from vstpetsc.errors import CaseError
 
+# the arrays of tables a dotted path enters by a name (the key given) or
+# by an index ([[interface]] and [[water]] were missing: a 2-D sweep's
+# interface.<name>.friction was "not a table", and water.0.level in a
+# case without water was taken as a table and every run failed)
 ARRAYS = {"body": "name", "contact": None, "bc": None, "soil": None, "gauge": "name",
-          "region": "name", "boundary": "name"}
+          "region": "name", "boundary": "name", "interface": "name", "water": "name"}
 
 
 class Case:
@@ -116,7 +120,9 @@ class Case:
 
         ``path`` is dotted: ``time.dt``, ``output.every``, ``body.<name>.<key>``,
         ``contact.<k>.<key>``, ``bc.<k>.<key>``, ``soil.<k>.<key>`` (k counts
-        from 0 in case order); deeper keys (``body.bar.damping.alpha``) too.
+        from 0 in case order); in 2-D ``region``, ``boundary``,
+        ``interface`` and ``water`` by name (or index); deeper keys
+        (``body.bar.damping.alpha``, ``boundary.base.incident.x.scale``) too.
         """
         doc, created = self.to_dict(), []
         table, key = _locate(doc, path, created)

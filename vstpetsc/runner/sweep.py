@@ -79,6 +79,28 @@ def quantities(result):
         out[f"stress_min_{body['name']}"] = body.get("compression", (math.nan,))[0]
         out[f"stress_max_{body['name']}"] = body.get("tension", (math.nan,))[0]
     out.update(shear_quantities(s))
+    out.update(plane_quantities(s))
+    return out
+
+
+def plane_quantities(s):
+    """The columns of a plane-strain run, from its summary ``s``: per
+    interface NAME ``slip_NAME`` (the permanent slip: the largest |slip|
+    at the end, signed), ``slip_max_NAME`` (the largest |slip| of the
+    run) and ``opening_max_NAME`` (the largest gap: below zero, closed
+    throughout), as `vstpetsc info` prints them and as a 1-D pair's
+    ``slip_<k>`` and ``slip_max_<k>``; ``tension_max``, the largest
+    principal stress over the run (/field/principal_max); {} for a 1-D
+    run."""
+    plane = s.get("plane") or {}
+    out = {}
+    for g in plane.get("interfaces", ()):
+        if g.get("slip") is not None:
+            out.update({f"slip_{g['name']}": g["permanent"][0],
+                        f"slip_max_{g['name']}": abs(g["slip"][0]),
+                        f"opening_max_{g['name']}": g["opening"][0]})
+    if plane.get("tension") is not None:
+        out["tension_max"] = plane["tension"][0]
     return out
 
 

@@ -14,6 +14,7 @@ The DMPlex is built from the mesh's cells on rank 0 (any mix of
 triangles and quadrilaterals), its regions and curves as labels that
 migrate with the cells."""
 
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -108,6 +109,7 @@ def distribute(mesh, comm, overlap=1, names=None):
     if names is None:
         names = comm.tompi4py().bcast(
             (mesh.region_names, tuple(mesh.curves)) if rank == 0 else None, root=0)
+    one_partitioner_thread()
     dm = plex(mesh, comm, names[1])
     p0, p1 = dm.getChart()
     point = np.arange(p0, p1, dtype=PETSc.IntType)     # rank 0's points as read
@@ -136,6 +138,18 @@ def distribute(mesh, comm, overlap=1, names=None):
     cells = point[c0:c1].astype(np.int64)     # rank 0's cells are its points 0 .. ne - 1
     return LocalMesh(lm, global_vertex, owned, owned_cells, start, start + counts[rank],
                      sum(counts), comm, original, cells)
+
+
+def one_partitioner_thread():
+    """PETSc's partitioner here is PT-Scotch, and Scotch 7 splits the graph
+    with as many threads as the machine has cores: its partition then
+    changes from run to run (rockfill-dam on two ranks: 1386 / 1997,
+    1255 / 2128 and 1729 / 1654 vertices a rank in three runs), and with
+    it the global numbering, the slab solve's rounding and a restart's
+    bits.  One thread (Scotch reads SCOTCH_PTHREAD_NUMBER when it
+    partitions) gives one partition for a mesh and a number of ranks, on
+    any machine; a value the user set is kept."""
+    os.environ.setdefault("SCOTCH_PTHREAD_NUMBER", "1")
 
 
 def _migrated(sf, root, chart):
