@@ -2,8 +2,9 @@
 of bench/plane_slab.py (quadrilaterals, absorbing base, an incident
 wave, c dt / h = 1) at 1e4, 1e5 and 1e6 cells, solved by GMRES + ILU(0)
 (rtol 1e-12: the option that fits 1e6 cells on one rank), with the
-slab matrix in 4 x 4 node blocks (the default, BAIJ) and as one value
-an index (AIJ, -vst_plane_blocks 0). Each size and form in a process of
+slab matrix in 4 x 4 node blocks (the default, BAIJ), as one value
+an index (AIJ, -vst_plane_blocks 0), and matrix-free (-vst_plane_matrix_free:
+the blocks only set up the ILU, then go). Each size and form in a process of
 its own: its peak resident memory (getrusage), set-up (mesh, matrices,
 factors) and the slab's ms (min / median of REPEATS batches of BATCH
 slabs). The goal: 1e6 cells within 4 GB and no slower than 1.4 s a slab.
@@ -70,15 +71,18 @@ def section(rows):
              "rank, each size and form in a process of its own: its peak resident memory, "
              "set-up, ms a slab (min / median of 3 batches of 5). BAIJ(4): the slab matrix in "
              "4 x 4 node blocks (the default); AIJ: `-vst_plane_blocks 0` (both with the spatial "
-             "matrices assembled in chunks of cells). The goal: 1e6 cells within 4 GB, no "
+             "matrices assembled in chunks of cells); matrix-free: `-vst_plane_matrix_free 1` "
+             "(the slab's products from M, C, K; the blocks set up the ILU(0) and go). "
+             "GMRES iterations a slab in the last column. The goal: 1e6 cells within 4 GB, no "
              "slower than 1.4 s a slab (2026-11-29, before both: 8.86 GB, 1.4 s, set-up 50 s: "
              "bench/README.md above).", "",
-             "| cells | form | peak GB | kB a node | set-up s | slab ms (min / median) |",
-             "|---|---|---|---|---|---|"]
+             "| cells | form | peak GB | kB a node | set-up s | slab ms (min / median) | "
+             "iterations |",
+             "|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['cells']:.0e} | {r['form']} | {r['peak'] / 1e9:.2f} | "
                      f"{r['peak'] / r['nodes'] / 1e3:.2f} | {r['setup']:.1f} | "
-                     f"{r['min_ms']:.1f} / {r['median_ms']:.1f} |")
+                     f"{r['min_ms']:.1f} / {r['median_ms']:.1f} | {r.get('iterations', '')} |")
     return "\n".join(lines) + "\n"
 
 
