@@ -20,6 +20,8 @@ a pair closed and sticking), A_c factored once:
 import numpy as np
 from petsc4py import PETSc
 
+from vstpetsc.plane.solver.redundant import factors_at_hand
+
 DENSE_PAIRS = 1000
 
 
@@ -32,6 +34,8 @@ def kind(pairs):
     if chosen not in ("dense", "krylov"):
         raise InputError(f"-vst_contact_steps: {chosen!r} is not dense or krylov")
     return chosen
+
+
 # the columns A_c^-1 E (every rank its rows) are kept up to this many bytes a
 # rank: a step then needs one solve with A_c, not two
 COLUMNS_BYTES = 2 ** 30
@@ -67,12 +71,20 @@ class Coupling:
         self.Z = np.zeros((n, local)) if keep else None     # rows: contiguous picks
         self.known = np.zeros(pairs.m, dtype=bool)
         self.solves = 0
+        self.whole = factors_at_hand(inner) if comm.getSize() > 1 else None
+        if self.whole is not None:          # the columns dealt to the ranks
+            self.dealt = DealtColumns(self.whole, dofs, self.u, comm)
 
     def ensure(self, wanted):
         """Form the columns of the pairs ``wanted`` (rank 0's list; every
         rank calls) not formed yet."""
         wanted = self.comm.tompi4py().bcast(wanted, root=0)
         new = [int(p) for p in np.unique(wanted) if not self.known[p]]
+        if self.whole is not None and new:
+            self.dealt.form([4 * p + c for p in new for c in range(4)], self)
+            self.known[new] = True
+            self.solves += 4 * len(new)
+            return
         for j in (4 * p + c for p in new for c in range(4)):
             self.v.zeroEntries()
             self.dofs.add(_pair_vector(self.pairs, j) if self.rank0 else None, self.v)
@@ -84,6 +96,41 @@ class Coupling:
                 self.S[:, j] = self.pairs.coordinates(z).ravel()
         self.known[new] = True
         self.solves += 4 * len(new)
+
+
+class DealtColumns:
+    """The coupling's columns A_c^-1 E e_j dealt to the ranks, each rank
+    solving its share alone with its factors of the whole matrix
+    (vstpetsc.plane.solver.redundant): the same solves as the collective
+    ones (the same load, the same factors), so the same bits; each rank
+    gets its rows of every column (Z) and rank 0 every column's values at
+    the pairs' unknowns (S)."""
+
+    def __init__(self, whole, dofs, vec, comm):
+        self.whole, self.dofs, self.comm = whole, dofs, comm.tompi4py()
+        self.rank, self.size = comm.getRank(), comm.getSize()
+        self.index = self.comm.bcast(dofs.index if dofs.rank0 else None, root=0)
+        self.ranges = self.comm.allgather(vec.getOwnershipRange())
+
+    def form(self, columns, coupling):
+        """Columns ``columns`` into coupling.Z (each rank's rows, if kept)
+        and coupling.S (rank 0's) (collective)."""
+        loads = None
+        if self.rank == 0:
+            loads = [(self.index[j // 4], (_pair_vector(coupling.pairs, j)
+                                           * self.dofs.free)[j // 4]) for j in columns]
+        loads = self.comm.bcast(loads, root=0)
+        sent = [[] for _ in range(self.size)]
+        for k in range(self.rank, len(columns), self.size):
+            full = self.whole.solve_alone(*loads[k])
+            for r, (lo, hi) in enumerate(self.ranges):
+                sent[r].append((k, full[lo:hi], full[self.index] if r == 0 else None))
+        for part in self.comm.alltoall(sent):
+            for k, rows, z in part:
+                if coupling.Z is not None:
+                    coupling.Z[columns[k]] = rows
+                if z is not None:
+                    coupling.S[:, columns[k]] = coupling.pairs.coordinates(z).ravel()
 
 
 class _Jacobian:

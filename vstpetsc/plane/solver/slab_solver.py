@@ -24,6 +24,7 @@ from vstpetsc.plane.solver.principal import PrincipalStresses
 from vstpetsc.plane.solver.heap import give_back
 from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
 from vstpetsc.plane.solver.newton_terms import slab_newton
+from vstpetsc.plane.solver.redundant import factors_at_hand
 from vstpetsc.plane.solver.slab_product import run_operators
 from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
 from vstpetsc.results import layout
@@ -95,6 +96,8 @@ class PlaneSolver:
         kind = self.ksp.getType() + "/" + pc.getType()
         if pc.getType() == "lu":
             kind += f" ({pc.getFactorSolverType()})"
+        if factors_at_hand(self.ksp) is not None:
+            kind = self.ksp.getType() + "/LU of the whole matrix on every rank"
         if self.A.getType() == "python":
             kind += ", matrix-free products"
         return f"plane strain, {kind}, Vp dt / h up to {self.courant:.3g}"

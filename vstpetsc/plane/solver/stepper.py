@@ -18,6 +18,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
+from vstpetsc.plane.solver.redundant import factors_at_hand, whole_on_every_rank
 
 PREFIX = "vst_plane_"
 
@@ -39,7 +40,8 @@ SCHWARZ_COURANT = 2.0
 SCHWARZ_OVERLAP = 2
 KRYLOV_RTOL = 1e-12
 # Beyond it, up to this many slab unknowns (1e5 cells of quadrilaterals),
-# every rank factors the whole slab matrix (PETSc's redundant LU): on two
+# every rank factors the whole slab matrix (PETSc's redundant LU, written
+# out: vstpetsc.plane.solver.redundant): on two
 # ranks 15.6 against MUMPS's 28.5 ms a slab at 2e4 cells, 61.9 against
 # 145.4 at 1e5 (c dt / h = 4; one rank 12.5, 68.2), and a run repeats bit
 # for bit; larger, MUMPS (its factors shared out: at 2e5 cells 2.2 GB a
@@ -63,7 +65,7 @@ def default_solver(ksp, comm, courant):
         return
     ksp.setType("preonly")
     if comm.getSize() > 1 and ksp.getOperators()[0].getSize()[0] <= REDUNDANT_UNKNOWNS:
-        pc.setType("redundant")
+        whole_on_every_rank(pc)
         return
     pc.setType("lu")
     if comm.getSize() > 1:
@@ -93,7 +95,7 @@ def linear_solver(A, comm, courant=None, operator=None):
             not opts.hasName(PREFIX + "pc_factor_mat_ordering_type"):
         pc.setFactorOrdering("nd")
     ksp.setUp()
-    if operator is not None and pc.getType() in SETTLED:
+    if operator is not None and (pc.getType() in SETTLED or factors_at_hand(ksp)):
         # the preconditioner is built, its factors hold their own values:
         # kept as it is while A goes (PCSetUp returns at once when reused)
         pc.setReusePreconditioner(True)
