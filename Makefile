@@ -93,6 +93,7 @@ bench: install $(OPENSEES)
 	$(PY) bench/plane_slab.py
 	$(PY) bench/plane_memory.py
 	$(PY) bench/plane_parallel.py
+	$(PY) bench/plane_dam_ranks.py
 	$(PY) bench/plane_interfaces.py
 	$(PY) bench/plane_yielding.py
 	$(PY) bench/plane_yielding_opensees.py

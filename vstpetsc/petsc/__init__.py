@@ -7,8 +7,10 @@ are each room's (:mod:`vstpetsc.line.solver`, :mod:`vstpetsc.plane.solver`).
 started yet (options such as -log_view act only at start-up).
 """
 
+import atexit
 import os
 import sys
+import weakref
 
 
 # Open MPI's start-up of a process that mpirun did not launch (a
@@ -47,6 +49,39 @@ def initialize(args=()):
         petsc4py.init([sys.argv[0] if sys.argv and sys.argv[0] else "vstpetsc", *args])
     from petsc4py import PETSc
     return PETSc
+
+
+# petsc4py 3.18 hands the objects Python lets go to PETSc's garbage (see
+# release); what is left of it when PETSc ends is destroyed then, after
+# the interpreter has gone, and an object whose type calls into Python (a
+# Python matrix or preconditioner: its context) crashes the process there
+# (SEGV, exit 59).  Each such object that still lives is made a plain one
+# at exit (``how``), and the garbage destroyed, while Python runs.
+_PLAIN_AT_EXIT = {}     # id: (weak reference, how)
+_HOOKED = []
+
+
+def plain_before_petsc_ends(obj, how):
+    """Call ``how(obj)`` at exit if ``obj`` (a petsc4py object) still lives
+    then: make it a type that needs no Python (a Python matrix a shell, a
+    Python preconditioner none)."""
+    if not _HOOKED:
+        # registered after petsc4py's own hook (petsc4py is imported: obj
+        # is its object), so run before it
+        atexit.register(_before_petsc_ends)
+        _HOOKED.append(True)
+    key = id(obj)
+    _PLAIN_AT_EXIT[key] = (weakref.ref(obj, lambda _: _PLAIN_AT_EXIT.pop(key, None)), how)
+
+
+def _before_petsc_ends():
+    for alive, how in list(_PLAIN_AT_EXIT.values()):
+        obj = alive()
+        if obj is not None:
+            how(obj)
+    from petsc4py import PETSc
+
+    release(PETSc.COMM_WORLD)
 
 
 def _mpi_defaults(env):

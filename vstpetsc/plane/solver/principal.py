@@ -89,7 +89,8 @@ def _stress_matrix(model, cells, comm):
     owned = 2 * (local.stop - local.start)
     B = PETSc.Mat().createAIJ(((inside.size, PETSc.DECIDE), (owned, 2 * local.size)),
                               comm=comm)
-    B.setPreallocationNNZ((inside, outside))
+    # (a rank without linear cells gives numbers: empty arrays hang PETSc's assembly)
+    B.setPreallocationNNZ((inside, outside) if inside.size else (0, 0))
     first = B.getOwnershipRange()[0]
     for rows, columns, values in stress_rows(local.mesh, model.materials["lam"],
                                              model.materials["mu"], cells, local.global_vertex):

@@ -13,6 +13,8 @@ solve with an unknown's unit load, are dealt to the ranks."""
 import numpy as np
 from petsc4py import PETSc
 
+from vstpetsc.petsc import plain_before_petsc_ends
+
 
 class WholeOnEveryRank:
     """petsc4py's Python PC context: every rank's LU of the whole matrix."""
@@ -47,10 +49,12 @@ class WholeOnEveryRank:
         return self.x.getArray(readonly=True).copy()
 
 
-def whole_on_every_rank(pc):
-    """Make ``pc`` a WholeOnEveryRank."""
+def whole_on_every_rank(ksp):
+    """Make ``ksp``'s preconditioner a WholeOnEveryRank."""
+    pc = ksp.getPC()
     pc.setType("python")
     pc.setPythonContext(WholeOnEveryRank())
+    plain_before_petsc_ends(ksp, lambda ksp: ksp.getPC().setType("none"))
 
 
 def factors_at_hand(ksp):

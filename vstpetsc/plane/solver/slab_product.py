@@ -19,29 +19,10 @@ bench/plane_memory.py) for a slower product.  Its products equal the
 assembled matrix's to rounding (sums in another order), not bit for
 bit."""
 
-import atexit
-import weakref
-
 import numpy as np
 from petsc4py import PETSc
 
-# petsc4py 3.18 hands objects Python lets go to PETSc's garbage, destroyed
-# when PETSc ends, where a Python matrix's destructor calls into the
-# interpreter already gone (SEGV, exit 59): before that (atexit runs this
-# before petsc4py's own hook, registered earlier), each live one becomes a
-# plain shell, its Python context released while Python runs, and the
-# garbage is destroyed (collective, as PETSc's end is).
-_LIVE = weakref.WeakValueDictionary()      # (petsc4py's Mat is not hashable)
-
-
-@atexit.register
-def _release_live():
-    for A in list(_LIVE.values()):
-        A.setType("shell")
-    from vstpetsc.petsc import release
-
-    release(PETSc.COMM_WORLD)
-
+from vstpetsc.petsc import plain_before_petsc_ends
 
 class SlabProduct:
     """PETSc's Python-matrix context of A x (collective on ``comm``):
@@ -79,7 +60,7 @@ def slab_product(terms, rows, comm):
     context = SlabProduct(terms, rows, comm)
     A = PETSc.Mat().createPython(context.sizes, context=context, comm=comm)
     A.setUp()
-    _LIVE[id(A)] = A
+    plain_before_petsc_ends(A, lambda A: A.setType("shell"))
     return A
 
 

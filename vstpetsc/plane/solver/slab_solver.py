@@ -24,9 +24,8 @@ from vstpetsc.plane.solver.principal import PrincipalStresses
 from vstpetsc.plane.solver.heap import give_back
 from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
 from vstpetsc.plane.solver.newton_terms import slab_newton
-from vstpetsc.plane.solver.redundant import factors_at_hand
 from vstpetsc.plane.solver.slab_product import run_operators
-from vstpetsc.plane.solver.stepper import StateProducts, linear_solver
+from vstpetsc.plane.solver.stepper import StateProducts, describe, linear_solver
 from vstpetsc.results import layout
 
 SUMS = ("damping", "external", "contact", "friction")
@@ -69,9 +68,6 @@ class PlaneSolver:
         self.ax = None if self.A_free is None else self.A_free.createVecLeft()
         self.courant = model.courant(dt)
         self.ksp = linear_solver(P, comm, self.courant, None if P is self.A else self.A)
-        if P is not self.A:     # matrix-free: A goes now (the factors hold their own values;
-            P.destroy()         # petsc4py 3.18 would keep what Python lets go till PETSc ends)
-            give_back()
         del P
         self.x, self.b = self.A.createVecs()
         self.products = StateProducts(self.M, self.K)
@@ -92,15 +88,7 @@ class PlaneSolver:
             slab_newton(self, comm)
 
     def describe(self):
-        pc = self.ksp.getPC()
-        kind = self.ksp.getType() + "/" + pc.getType()
-        if pc.getType() == "lu":
-            kind += f" ({pc.getFactorSolverType()})"
-        if factors_at_hand(self.ksp) is not None:
-            kind = self.ksp.getType() + "/LU of the whole matrix on every rank"
-        if self.A.getType() == "python":
-            kind += ", matrix-free products"
-        return f"plane strain, {kind}, Vp dt / h up to {self.courant:.3g}"
+        return f"plane strain, {describe(self.ksp)}, Vp dt / h up to {self.courant:.3g}"
 
     def set_state(self, u, v, envelopes=None):
         """Start from u, v (nn, 2) of every node (the mesh's numbering as

@@ -17,6 +17,7 @@ bare M, K for the tests and benches that need no case."""
 import numpy as np
 from petsc4py import PETSc
 
+from vstpetsc.plane.solver.heap import give_back
 from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
 from vstpetsc.plane.solver.redundant import factors_at_hand, whole_on_every_rank
 
@@ -65,7 +66,7 @@ def default_solver(ksp, comm, courant):
         return
     ksp.setType("preonly")
     if comm.getSize() > 1 and ksp.getOperators()[0].getSize()[0] <= REDUNDANT_UNKNOWNS:
-        whole_on_every_rank(pc)
+        whole_on_every_rank(ksp)
         return
     pc.setType("lu")
     if comm.getSize() > 1:
@@ -80,7 +81,8 @@ def linear_solver(A, comm, courant=None, operator=None):
     LU of the whole matrix up to REDUNDANT_UNKNOWNS, MUMPS's LU above;
     any option of the database overrides it.  With ``operator`` (the
     slab's product without A: vstpetsc.plane.solver.slab_product) A serves
-    to set up the preconditioner alone, and the KSP lets it go then."""
+    to set up the preconditioner alone and is destroyed then (when the
+    preconditioner holds its own values: SETTLED)."""
     opts = PETSc.Options()
     ksp = PETSc.KSP().create(comm=comm)
     ksp.setOptionsPrefix(PREFIX)
@@ -97,10 +99,27 @@ def linear_solver(A, comm, courant=None, operator=None):
     ksp.setUp()
     if operator is not None and (pc.getType() in SETTLED or factors_at_hand(ksp)):
         # the preconditioner is built, its factors hold their own values:
-        # kept as it is while A goes (PCSetUp returns at once when reused)
+        # kept as it is while A goes (PCSetUp returns at once when reused;
+        # destroyed here: petsc4py 3.18 keeps what Python lets go till
+        # PETSc's garbage is cleaned)
         pc.setReusePreconditioner(True)
         ksp.setOperators(operator, operator)
+        A.destroy()
+        give_back()
     return ksp
+
+
+def describe(ksp):
+    """The slab solver ``ksp`` in a few words (a run's header)."""
+    pc = ksp.getPC()
+    kind = ksp.getType() + "/" + pc.getType()
+    if pc.getType() == "lu":
+        kind += f" ({pc.getFactorSolverType()})"
+    if factors_at_hand(ksp) is not None:
+        kind = ksp.getType() + "/LU of the whole matrix on every rank"
+    if ksp.getOperators()[0].getType() == "python":
+        kind += ", matrix-free products"
+    return kind
 
 
 class StateProducts:
