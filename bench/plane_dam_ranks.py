@@ -31,7 +31,7 @@ def dam_case(folder, end):
 
     mesh = write_gmsh22(os.path.join(folder, "rockfill-1m.msh"), rockfill_mesh(h=1.0))
     case = vstpetsc.Case.from_toml(bundled.path("rockfill-dam"))
-    case = case.with_value("time.end", end).with_value("mesh.file", os.path.basename(str(mesh)))
+    case = case.with_value("time.end", end).with_value("mesh.file", str(mesh))
     for c in bundled.companions("rockfill-dam"):
         if c.endswith(".csv"):
             os.symlink(c, os.path.join(folder, os.path.basename(c)))

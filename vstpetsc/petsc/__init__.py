@@ -101,18 +101,20 @@ def communicator(comm=None):
     return PETSc.COMM_WORLD if comm is None else PETSc.Comm(comm)
 
 
-def release(comm):
+def release(comm, collect=True):
     """Destroy the PETSc objects Python has let go (collective on the PETSc
     communicator ``comm``).  petsc4py 3.18 hands an object whose last
     Python reference goes to PETSc's garbage, destroyed only by
     PETSc.garbage_cleanup or when PETSc ends: a process that runs case
     after case (a sweep, the API, the tests) would keep every run's
     matrices (measured: a 1.2 GB matrix let go kept its memory until
-    cleaned up; tests/test_plane_memory.py)."""
+    cleaned up; tests/test_plane_memory.py).  ``collect``: Python's cyclic
+    garbage collected first (5-50 ms with the objects of a process)."""
     import gc
 
     PETSc = initialize()
-    gc.collect()            # (a solver and its restart refer to each other)
+    if collect:                 # (a solver and its restart refer to each other)
+        gc.collect()
     PETSc.garbage_cleanup(comm)
     if comm.getSize() > 1:
         PETSc.garbage_cleanup(PETSc.COMM_SELF)

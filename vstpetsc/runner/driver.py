@@ -76,7 +76,7 @@ def run(case, output=None, options=(), quiet=False, comm=None, restart=False,
     # reports them in one line: a solution that is not finite (exit 3), or
     # energies that are not (Recorder.record).  The warnings add nothing.
     with scoped(options), np.errstate(all="ignore"), one_blas_thread():
-        petsc.release(comm)         # what an earlier run that failed let go
+        petsc.release(comm, collect=False)      # what an earlier run let go
         loop = TimeLoop(case, output, comm, quiet, out or sys.stdout, err or sys.stderr)
         info = loop.execute(restart, " ".join(map(str, options)))
         del loop
