@@ -267,3 +267,38 @@ def test_the_stress_matrix_is_the_stress_operator():
                                       cells, local.global_vertex, 2 * local.size)
     assert np.array_equal(as_dense(B), whole.toarray())
     assert int(B.getInfo()["nz_allocated"]) == whole.nnz == 3 * 6 * cells.size
+
+
+AFTER_RUNS = """
+import sys
+import vstpetsc
+from vstpetsc import bundled
+import vstpetsc.petsc
+if sys.argv[1] == "kept":                  # the release a run calls: undone
+    vstpetsc.petsc.release = lambda comm, collect=True: None
+case = vstpetsc.Case.from_toml(bundled.path("plane-column")).with_value("time.end", 0.02)
+for k in range(2):
+    vstpetsc.run(case, sys.argv[2], quiet=True)
+import gc
+gc.collect()                               # (what Python still holds in cycles let go)
+from petsc4py import PETSc
+PETSc.garbage_view(PETSc.COMM_WORLD)
+"""
+
+
+def test_a_run_leaves_no_petsc_garbage(tmp_path):
+    """Two plane-strain runs through the API in one process: after them
+    PETSc's garbage is empty (each run released what it let go); without
+    the release it holds the runs' objects."""
+    import re
+    import subprocess
+    import sys
+
+    script = tmp_path / "runs.py"
+    script.write_text(AFTER_RUNS)
+    entries = {}
+    for how in ("released", "kept"):
+        out = subprocess.run([sys.executable, script, how, tmp_path / f"{how}.h5"],
+                             capture_output=True, text=True, check=True).stdout
+        entries[how] = int(re.search(r"Total entries: (\d+)", out).group(1))
+    assert entries["released"] == 0 and entries["kept"] > 10, entries
