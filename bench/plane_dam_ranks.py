@@ -11,7 +11,6 @@ speed-up of the medians.
 
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -44,16 +43,11 @@ def dam_case(folder, end):
 def measure(end, repeats):
     folder = tempfile.mkdtemp()
     path = dam_case(folder, end)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    exe = [sys.executable, "-m", "vstpetsc", "run", path, "-q"]
-    commands = {1: exe + ["-o", os.path.join(folder, "one.h5")],
-                2: ["mpirun", "-n", "2"] + exe + ["-o", os.path.join(folder, "two.h5")]}
-    times = {n: [] for n in commands}
-    for _ in range(repeats):
-        for n, command in commands.items():
-            t0 = time.perf_counter()
-            subprocess.run(command, check=True, env=env, capture_output=True)
-            times[n].append(time.perf_counter() - t0)
+    sys.path.insert(0, HERE)
+    from plane_interfaces import one_and_two_ranks
+
+    runs = one_and_two_ranks(path, folder, repeats)
+    times = {1: runs["1 rank"], 2: runs["2 ranks"]}
     out = {"end": end, "date": time.strftime("%Y-%m-%d"), "load": os.getloadavg()[0]}
     for n, t in times.items():
         out[f"{n}_min_s"], out[f"{n}_median_s"] = min(t), statistics.median(t)
@@ -92,7 +86,6 @@ def main(argv):
     out = measure(end, REPEATS)
     print(out)
     if not argv:
-        sys.path.insert(0, HERE)
         from plane_interfaces import keep
         keep("plane_dam_ranks", out, section)
 

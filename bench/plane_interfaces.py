@@ -208,6 +208,13 @@ def ranks(repeats):
         f.write(case.to_toml())
     for c in bundled.companions("rockfill-dam"):
         os.symlink(c, os.path.join(folder, os.path.basename(c)))
+    times = one_and_two_ranks(path, folder, repeats)
+    return {k: {"min_s": min(v), "median_s": statistics.median(v)} for k, v in times.items()}
+
+
+def one_and_two_ranks(path, folder, repeats):
+    """{"1 rank": [s], "2 ranks": [s]}: whole `vstpetsc run` processes of
+    the case file ``path`` (results in ``folder``), interleaved."""
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")
     exe = [sys.executable, "-m", "vstpetsc", "run", path, "-q"]
@@ -219,7 +226,7 @@ def ranks(repeats):
             t0 = time.perf_counter()
             subprocess.run(cmd, check=True, env=env, capture_output=True)
             times[name].append(time.perf_counter() - t0)
-    return {k: {"min_s": min(v), "median_s": statistics.median(v)} for k, v in times.items()}
+    return times
 
 
 def main(argv):
