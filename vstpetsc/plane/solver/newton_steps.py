@@ -71,20 +71,26 @@ class Coupling:
         self.Z = np.zeros((n, local)) if keep else None     # rows: contiguous picks
         self.known = np.zeros(pairs.m, dtype=bool)
         self.solves = 0
-        self.whole = factors_at_hand(inner) if comm.getSize() > 1 else None
-        if self.whole is not None:          # the columns dealt to the ranks
-            self.dealt = DealtColumns(self.whole, dofs, self.u, comm)
+        whole = factors_at_hand(inner) if comm.getSize() > 1 else None
+        # the columns dealt to the ranks when each holds the whole factors
+        self.dealt = None if whole is None else DealtColumns(whole, dofs, self.u, comm)
 
     def ensure(self, wanted):
         """Form the columns of the pairs ``wanted`` (rank 0's list; every
         rank calls) not formed yet."""
         wanted = self.comm.tompi4py().bcast(wanted, root=0)
         new = [int(p) for p in np.unique(wanted) if not self.known[p]]
-        if self.whole is not None and new:
-            self.dealt.form([4 * p + c for p in new for c in range(4)], self)
-            self.known[new] = True
-            self.solves += 4 * len(new)
+        if not new:                 # (every rank knows the same pairs)
             return
+        if self.dealt is not None:
+            self.dealt.form([4 * p + c for p in new for c in range(4)], self)
+        else:
+            self._collective(new)
+        self.known[new] = True
+        self.solves += 4 * len(new)
+
+    def _collective(self, new):
+        """The columns of the pairs ``new``, each a solve of every rank."""
         for j in (4 * p + c for p in new for c in range(4)):
             self.v.zeroEntries()
             self.dofs.add(_pair_vector(self.pairs, j) if self.rank0 else None, self.v)
@@ -94,8 +100,6 @@ class Coupling:
             z = self.dofs.gather(self.u)
             if self.rank0:
                 self.S[:, j] = self.pairs.coordinates(z).ravel()
-        self.known[new] = True
-        self.solves += 4 * len(new)
 
 
 class DealtColumns:
@@ -117,8 +121,8 @@ class DealtColumns:
         and coupling.S (rank 0's) (collective)."""
         loads = None
         if self.rank == 0:
-            loads = [(self.index[j // 4], (_pair_vector(coupling.pairs, j)
-                                           * self.dofs.free)[j // 4]) for j in columns]
+            loads = [(self.index[j // 4], _pair_vector(coupling.pairs, j)[j // 4]
+                      * self.dofs.free[j // 4]) for j in columns]
         loads = self.comm.bcast(loads, root=0)
         sent = [[] for _ in range(self.size)]
         for k in range(self.rank, len(columns), self.size):

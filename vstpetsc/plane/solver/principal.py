@@ -100,4 +100,3 @@ def _stress_matrix(model, cells, comm):
                        np.take_along_axis(values, order, 1))
     B.assemble()
     return B
-

@@ -23,6 +23,8 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.petsc import plain_before_petsc_ends
+from vstpetsc.plane.solver.matrices import node_matrix, slab_terms
+
 
 class SlabProduct:
     """PETSc's Python-matrix context of A x (collective on ``comm``):
@@ -74,8 +76,6 @@ def run_operators(A, spatial, springs, dt, rows, first, moving, comm):
     its rows made identities (a copy kept before for the free product);
     with ``-vst_plane_matrix_free``: products from the spatial matrices
     (and ``springs``' node matrix), A only for the preconditioner."""
-    from vstpetsc.plane.solver.matrices import node_matrix, slab_terms
-
     assembled = not matrix_free()
     free = A.duplicate(copy=True) if moving and assembled else None
     A.zeroRows((4 * first + rows).astype(PETSc.IntType), diag=1.0)
@@ -83,7 +83,7 @@ def run_operators(A, spatial, springs, dt, rows, first, moving, comm):
         return A, A, free
     M, C, K = spatial
     terms = slab_terms(M, C, K, dt)
-    if springs is not None:
+    if springs is not None:             # with K's time matrix (slab_terms: M, K, then C)
         terms.append((node_matrix(springs, comm), terms[1][1]))
     operator = slab_product(terms, rows, comm)
     return operator, A, slab_product(terms, [], comm) if moving else None

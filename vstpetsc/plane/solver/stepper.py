@@ -115,7 +115,7 @@ def describe(ksp):
     kind = ksp.getType() + "/" + pc.getType()
     if pc.getType() == "lu":
         kind += f" ({pc.getFactorSolverType()})"
-    if factors_at_hand(ksp) is not None:
+    elif factors_at_hand(ksp) is not None:
         kind = ksp.getType() + "/LU of the whole matrix on every rank"
     if ksp.getOperators()[0].getType() == "python":
         kind += ", matrix-free products"
