@@ -246,15 +246,14 @@ def test_a_2d_sweep_with_two_ranks_a_run(dam_sweep):
 
 
 def test_coupling_columns_dealt_to_the_ranks_are_the_collective_ones(tmp_path):
-    """Beyond the Schwarz default's Courant number every rank factors the
-    whole slab matrix (vstpetsc.plane.solver.redundant), and the
-    interfaces' coupling columns, formed as pairs start to slide, are
-    dealt to the ranks, each solving its share alone: rockfill-dam (Vp dt
-    / h up to 6) on two ranks equals the run with PETSc's redundant PC
-    (every column a collective solve with the same factors) bit for bit,
-    its three interfaces slid."""
+    """With ``-vst_plane_whole_lu 1`` every rank factors the whole slab
+    matrix (vstpetsc.plane.solver.redundant), and the interfaces' coupling
+    columns, formed as pairs start to slide, are dealt to the ranks, each
+    solving its share alone: rockfill-dam (Vp dt / h up to 6) on two ranks
+    equals the run with PETSc's redundant PC (every column a collective
+    solve with the same factors) bit for bit, its three interfaces slid."""
     path = shortened(tmp_path, "rockfill-dam", DAMS["rockfill-dam"], "dam")
-    mpirun_ok("run", path, "-o", tmp_path / "dealt.h5", n=2)
+    mpirun_ok("run", path, "-o", tmp_path / "dealt.h5", "-vst_plane_whole_lu", "1", n=2)
     mpirun_ok("run", path, "-o", tmp_path / "collective.h5", "-vst_plane_pc_type", "redundant",
               n=2)
     a, b = datasets(tmp_path / "dealt.h5"), datasets(tmp_path / "collective.h5")

@@ -17,7 +17,10 @@ from vstpetsc.petsc import plain_before_petsc_ends
 
 
 class WholeOnEveryRank:
-    """petsc4py's Python PC context: every rank's LU of the whole matrix."""
+    """petsc4py's Python PC context: every rank's LU of the whole matrix
+    (holding its own values: ``settled``)."""
+
+    settled = True
 
     def setUp(self, pc):
         A = pc.getOperators()[1]

@@ -20,6 +20,7 @@ from petsc4py import PETSc
 from vstpetsc.plane.solver.heap import give_back
 from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
 from vstpetsc.plane.solver.redundant import factors_at_hand, whole_on_every_rank
+from vstpetsc.plane.solver.separated import SeparatedLU, separated_lu
 
 PREFIX = "vst_plane_"
 
@@ -66,7 +67,10 @@ def default_solver(ksp, comm, courant):
         return
     ksp.setType("preonly")
     if comm.getSize() > 1 and ksp.getOperators()[0].getSize()[0] <= REDUNDANT_UNKNOWNS:
-        whole_on_every_rank(ksp)
+        if PETSc.Options().getBool(PREFIX + "whole_lu", False):
+            whole_on_every_rank(ksp)
+        else:
+            separated_lu(ksp)
         return
     pc.setType("lu")
     if comm.getSize() > 1:
@@ -97,7 +101,7 @@ def linear_solver(A, comm, courant=None, operator=None):
             not opts.hasName(PREFIX + "pc_factor_mat_ordering_type"):
         pc.setFactorOrdering("nd")
     ksp.setUp()
-    if operator is not None and (pc.getType() in SETTLED or factors_at_hand(ksp)):
+    if operator is not None and (pc.getType() in SETTLED or _settled_python(pc)):
         # the preconditioner is built, its factors hold their own values:
         # kept as it is while A goes (PCSetUp returns at once when reused;
         # destroyed here: petsc4py 3.18 keeps what Python lets go till
@@ -109,6 +113,12 @@ def linear_solver(A, comm, courant=None, operator=None):
     return ksp
 
 
+def _settled_python(pc):
+    """Whether ``pc`` is one of our Python preconditioners that hold their
+    own values once set up."""
+    return pc.getType() == "python" and getattr(pc.getPythonContext(), "settled", False)
+
+
 def describe(ksp):
     """The slab solver ``ksp`` in a few words (a run's header)."""
     pc = ksp.getPC()
@@ -117,6 +127,8 @@ def describe(ksp):
         kind += f" ({pc.getFactorSolverType()})"
     elif factors_at_hand(ksp) is not None:
         kind = ksp.getType() + "/LU of the whole matrix on every rank"
+    elif pc.getType() == "python" and isinstance(pc.getPythonContext(), SeparatedLU):
+        kind = ksp.getType() + "/each rank's LU of its interior, the separator's Schur complement"
     if ksp.getOperators()[0].getType() == "python":
         kind += ", matrix-free products"
     return kind

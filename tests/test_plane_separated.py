@@ -1,0 +1,108 @@
+"""The slab matrix solved by each rank's interior LU and the separator's
+Schur complement (vstpetsc.plane.solver.separated), the default on
+several ranks beyond the Schwarz default's Courant number: on 2 and 3
+ranks a dam section's slab matrix (its base held) solves to rounding
+(the backward error, and the whole matrix's one-rank LU within 1e-12),
+the compiled sweeps and scipy's triangular solves agree to rounding, no
+interior node couples with another rank's interior, and each rank holds
+a part of the factors (on two ranks under 0.6 of the whole matrix's
+LU's)."""
+
+import sys
+
+import numpy as np
+import pytest
+
+from test_parallel import mpirun
+
+pytestmark = pytest.mark.xdist_group("mpi")
+
+SCRIPT = r'''
+import sys
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from petsc4py import PETSc
+from vstpetsc.plane import assembly, elements
+from vstpetsc.plane.dam_mesh import dam_mesh
+from vstpetsc.plane.solver.distributed import distribute, owned_rows
+from vstpetsc.plane.solver.matrices import slab_operator
+from vstpetsc.plane.solver.separated import separated_lu, separator, _node_pattern, _submatrix
+from vstpetsc.plane.solver.stepper import _held_rows
+
+comm = PETSc.COMM_WORLD
+mpi = comm.tompi4py()
+m = dam_mesh(20.0, 4.0, 1.5, 1.5, 10.0, 80.0, 2.0)
+lam, mu = elements.lame(2e8, 0.3)
+local = distribute(m, comm)
+parts = assembly.element_matrices(local.mesh, lam, mu, 1800.0)
+csr = lambda k: owned_rows(local, [(c, Ke if k == "K" else elements.MASSES["averaged"](Me))
+                                   for c, Ke, Me in parts.values()])
+xy = local.mesh.coordinates[local.owned][np.argsort(local.global_vertex[local.owned])]
+bottom = np.flatnonzero(np.isclose(xy[:, 1], m.coordinates[:, 1].min())) + local.start
+A = slab_operator(csr("M"), None, csr("K"), 0.01, comm)
+_held_rows(A, (2 * bottom[:, None] + np.arange(2)).ravel(), local.start)
+ksp = PETSc.KSP().create(comm=comm)
+ksp.setOperators(A)
+ksp.setType("preonly")
+separated_lu(ksp)
+ksp.setUp()
+b, x = A.createVecLeft(), A.createVecRight()
+lo, hi = A.getOwnershipRange()
+b.setArray(np.random.default_rng(5).standard_normal(A.getSize()[0])[lo:hi])
+ksp.solve(b, x)
+r = A.createVecLeft()
+A.mult(x, r)
+r.axpy(-1.0, b)
+whole = A.getRedundantMatrix(comm.getSize())
+indptr, indices, values = whole.convert("aij").getValuesCSR()
+W = sp.csr_matrix((values, indices, indptr), shape=whole.getSize())
+xw = spla.spsolve(W.tocsc(), np.random.default_rng(5).standard_normal(W.shape[0]))
+xs = np.concatenate(mpi.allgather(x.getArray().copy()))
+scale = (abs(W) @ np.abs(xs)).max()
+# the separator: no interior row couples with another rank's interior
+nodes = A.getSize()[0] // 4
+pattern = _node_pattern(_submatrix(A, np.arange(lo // 4, hi // 4), np.arange(nodes)), nodes)
+ranges = mpi.allgather((lo // 4, hi // 4))
+S, interior = separator(pattern, lo // 4, ranges, comm)
+rows = pattern[interior - lo // 4]
+inside = (rows.indices >= lo // 4) & (rows.indices < hi // 4)
+apart = bool(np.isin(rows.indices[~inside], S).all())
+whole_lu = PETSc.KSP().create(comm=PETSc.COMM_SELF)
+whole_lu.setOperators(whole)
+whole_lu.setType("preonly")
+whole_lu.getPC().setType("lu")
+whole_lu.getPC().setFactorOrdering("nd")
+whole_lu.setUp()
+held = ksp.getPC().getPythonContext().part.stored()
+out = dict(residual=r.norm(PETSc.NormType.INFINITY) / scale,
+           error=np.abs(xs - xw).max() / np.abs(xw).max(), apart=apart,
+           share=held / whole_lu.getPC().getFactorMatrix().getInfo()["nz_used"],
+           separator=S.size)
+out = mpi.gather(out, root=0)
+if comm.getRank() == 0:
+    np.save(sys.argv[1], np.array(out, dtype=object), allow_pickle=True)
+    np.save(sys.argv[1] + ".x.npy", xs)
+'''
+
+
+def solve(tmp_path, n, *options):
+    script = tmp_path / "separated.py"
+    script.write_text(SCRIPT)
+    out = tmp_path / f"out{n}{len(options)}.npy"
+    p = mpirun(out, *options, n=n, program=f"{sys.executable} {script}")
+    assert p.returncode == 0, p.stderr
+    return list(np.load(out, allow_pickle=True)), np.load(f"{out}.x.npy")
+
+
+@pytest.mark.parametrize("n", [2, 3])
+def test_the_separated_lu_solves_the_slab_matrix(tmp_path, n):
+    ranks, x = solve(tmp_path, n)
+    eps = np.finfo(float).eps
+    for r in ranks:
+        assert r["separator"] > 0 and r["apart"]
+        assert r["residual"] <= 100 * eps
+        assert r["error"] <= 1e-12
+        assert r["share"] < (0.6 if n == 2 else 0.5), r["share"]
+    scipy_path, x_scipy = solve(tmp_path, n, "-vst_native", "0")
+    assert np.abs(x - x_scipy).max() <= 1e-12 * np.abs(x).max()
