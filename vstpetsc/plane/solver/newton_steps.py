@@ -21,6 +21,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.plane.solver.redundant import factors_at_hand
+from vstpetsc.plane.solver.separated import SeparatedLU
 
 DENSE_PAIRS = 1000
 
@@ -71,9 +72,14 @@ class Coupling:
         self.Z = np.zeros((n, local)) if keep else None     # rows: contiguous picks
         self.known = np.zeros(pairs.m, dtype=bool)
         self.solves = 0
-        whole = factors_at_hand(inner) if comm.getSize() > 1 else None
-        # the columns dealt to the ranks when each holds the whole factors
-        self.dealt = None if whole is None else DealtColumns(whole, dofs, self.u, comm)
+        # the columns dealt to the ranks when each holds the whole factors,
+        # solved together when each holds its part (the factors read once
+        # for all)
+        self.dealt = None
+        if comm.getSize() > 1 and factors_at_hand(inner) is not None:
+            self.dealt = DealtColumns(factors_at_hand(inner), dofs, self.u, comm)
+        elif comm.getSize() > 1 and _separated(inner) is not None:
+            self.dealt = ColumnsTogether(_separated(inner), dofs, self.u, comm)
 
     def ensure(self, wanted):
         """Form the columns of the pairs ``wanted`` (rank 0's list; every
@@ -102,6 +108,60 @@ class Coupling:
                 self.S[:, j] = self.pairs.coordinates(z).ravel()
 
 
+def _separated(ksp):
+    """The SeparatedLU of ``ksp``'s preconditioner, or None."""
+    pc = ksp.getPC()
+    if ksp.getType() != "preonly" or pc.getType() != "python":
+        return None
+    context = pc.getPythonContext()
+    return context if isinstance(context, SeparatedLU) else None
+
+
+def _column_loads(dofs, pairs, columns, comm):
+    """Every rank's list of each column's load (global unknowns, values):
+    a unit load at one pair coordinate."""
+    loads = None
+    if comm.Get_rank() == 0:
+        loads = [(dofs.index[j // 4], _pair_vector(pairs, j)[j // 4] * dofs.free[j // 4])
+                 for j in columns]
+    return comm.bcast(loads, root=0)
+
+
+class ColumnsTogether:
+    """The coupling's columns A_c^-1 E e_j solved at once by the ranks'
+    separated LU (vstpetsc.plane.solver.separated: each rank sweeps its
+    factors once for all the columns; every column the bits of its own
+    solve); each rank keeps its rows (Z), rank 0 gets every column's
+    values at the pairs' unknowns (S)."""
+
+    def __init__(self, separated, dofs, vec, comm):
+        self.separated, self.dofs, self.comm = separated, dofs, comm.tompi4py()
+        self.index = self.comm.bcast(dofs.index if dofs.rank0 else None, root=0)
+        self.lo, self.hi = vec.getOwnershipRange()
+
+    def form(self, columns, coupling):
+        """Columns ``columns`` into coupling.Z and coupling.S (collective)."""
+        loads = _column_loads(self.dofs, coupling.pairs, columns, self.comm)
+        B = np.zeros((self.hi - self.lo, len(columns)))
+        for k, (index, values) in enumerate(loads):
+            mine = (index >= self.lo) & (index < self.hi)
+            np.add.at(B[:, k], index[mine] - self.lo, values[mine])
+        X = self.separated.solve_many(B)
+        if coupling.Z is not None:
+            coupling.Z[columns] = X.T
+        flat = self.index.ravel()
+        mine = np.flatnonzero((flat >= self.lo) & (flat < self.hi))
+        parts = self.comm.gather((mine, X[flat[mine] - self.lo]), root=0)
+        if parts is None:
+            return
+        at_pairs = np.empty((flat.size, len(columns)))
+        for where, values in parts:
+            at_pairs[where] = values
+        for k, j in enumerate(columns):
+            z = at_pairs[:, k].reshape(self.index.shape)
+            coupling.S[:, j] = coupling.pairs.coordinates(z).ravel()
+
+
 class DealtColumns:
     """The coupling's columns A_c^-1 E e_j dealt to the ranks, each rank
     solving its share alone with its factors of the whole matrix
@@ -119,11 +179,7 @@ class DealtColumns:
     def form(self, columns, coupling):
         """Columns ``columns`` into coupling.Z (each rank's rows, if kept)
         and coupling.S (rank 0's) (collective)."""
-        loads = None
-        if self.rank == 0:
-            loads = [(self.index[j // 4], _pair_vector(coupling.pairs, j)[j // 4]
-                      * self.dofs.free[j // 4]) for j in columns]
-        loads = self.comm.bcast(loads, root=0)
+        loads = _column_loads(self.dofs, coupling.pairs, columns, self.comm)
         sent = [[] for _ in range(self.size)]
         for k in range(self.rank, len(columns), self.size):
             full = self.whole.solve_alone(*loads[k])

@@ -30,6 +30,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from petsc4py import PETSc
 
+from vstpetsc.errors import SolveFailed
 from vstpetsc.native import library
 from vstpetsc.petsc import plain_before_petsc_ends
 
@@ -68,21 +69,26 @@ def separator(own_rows, first, ranges, comm):
     """(S, interior): the separator's global nodes (sorted, every rank's
     list) and this rank's interior nodes, from this rank's node rows
     ``own_rows`` (CSR over global nodes, row i is node first + i) and every
-    rank's node range ``ranges``."""
+    rank's node range ``ranges``.  Between two ranks that couple, the
+    separator is the nodes on the side of the one with more nodes (its
+    interior shrinks, the two interiors' factors come closer in size)."""
     mpi = comm.tompi4py()
     rank, size = mpi.Get_rank(), mpi.Get_size()
     starts = np.array([lo for lo, _ in ranges])
+    count = np.array([hi - lo for lo, hi in ranges])
+    # side[r, q]: whether r's nodes next to q's are the separator
+    side = (count[:, None] > count[None, :]) | \
+        ((count[:, None] == count[None, :]) & (np.arange(size)[:, None] < np.arange(size)))
     rows = first + np.repeat(np.arange(own_rows.shape[0]), np.diff(own_rows.indptr))
     owner = np.searchsorted(starts, own_rows.indices, side="right") - 1
-    mine = np.unique(rows[owner > rank])                 # my nodes coupled upwards
-    asked = [np.unique(own_rows.indices[owner == q]) if q < rank else np.zeros(0, int)
-             for q in range(size)]                       # lower ranks' nodes I couple to
-    told = mpi.alltoall(asked)
+    across = owner != rank
+    mine = np.unique(rows[across & side[rank, owner]])     # my nodes on my side
+    told = mpi.alltoall([np.unique(own_rows.indices[(owner == q) & ~side[rank, q]])
+                         if q != rank else np.zeros(0, int) for q in range(size)])
     S_mine = np.union1d(mine, np.concatenate(told)).astype(np.int64)
     S = np.sort(np.concatenate(mpi.allgather(S_mine)))
     lo, hi = ranges[rank]
-    interior = np.setdiff1d(np.arange(lo, hi), S_mine)
-    return S, interior
+    return S, np.setdiff1d(np.arange(lo, hi), S_mine)
 
 
 def _nested_dissection(graph):
@@ -97,80 +103,86 @@ def _nested_dissection(graph):
     return order
 
 
-def _sweep_blocks(T, nb, backward):
+def _sweep_blocks(T, rows, backward):
     """(ptr, cols, off-diagonal blocks, inverse diagonal blocks) of the
-    triangular T (first nb block rows and columns) in the order a sweep
-    takes its rows (vst_block_sweep: descending for the backward one)."""
-    T = sp.csr_matrix(T).tobsr(blocksize=(BLOCK, BLOCK))
+    first ``rows`` block rows of T (CSR) in the order a sweep takes them
+    (vst_block_sweep: descending for the backward one); a row without a
+    diagonal block takes the identity."""
+    T = sp.csr_matrix(T[:BLOCK * rows]).tobsr(blocksize=(BLOCK, BLOCK))
     T.sort_indices()
-    row = np.repeat(np.arange(nb), np.diff(T.indptr))
+    row = np.repeat(np.arange(rows), np.diff(T.indptr))
     diag = row == T.indices
-    dinv = np.linalg.inv(T.data[diag])
+    dinv = np.broadcast_to(np.eye(BLOCK), (rows, BLOCK, BLOCK)).copy()
+    dinv[row[diag]] = np.linalg.inv(T.data[diag])
     row, col, off = row[~diag], T.indices[~diag], T.data[~diag]
     step = row
     if backward:
         order = np.lexsort((np.arange(row.size), -row))
         row, col, off, dinv = row[order], col[order], off[order], dinv[::-1]
-        step = nb - 1 - row
-    ptr = np.concatenate([[0], np.cumsum(np.bincount(step, minlength=nb))])
+        step = rows - 1 - row
+    ptr = np.concatenate([[0], np.cumsum(np.bincount(step, minlength=rows))])
     return (ptr.astype(np.int32), col.astype(np.int32), np.ascontiguousarray(off),
             np.ascontiguousarray(dinv))
 
 
 class Interior:
-    """A rank's factors of B_r = A restricted to its interior (nested
-    dissection) and the separator (last): the sweeps over the interior and
-    L_SI, U_IS."""
+    """A rank's factors of B_r = A restricted to its interior I (nested
+    dissection, n unknowns) and the separator S (last, ns): a vector
+    x = (x_I, x_S) is swept forwards by L's rows over I's columns (x_I <-
+    L_II^-1 x_I, then x_S <- x_S - L_SI x_I) and backwards by U's rows
+    of I (x_I <- U_II^-1 (x_I - U_IS x_S)); ``schur_part`` is this rank's
+    L_SS U_SS - A_SS = -L_SI U_IS (the trailing block of the factors)."""
 
     def __init__(self, B, n):
         lu = spla.splu(sp.csc_matrix(B), permc_spec="NATURAL", diag_pivot_thresh=0.0,
                        options=dict(SymmetricMode=True))
         identity = np.arange(B.shape[0])
         if not ((lu.perm_r == identity).all() and (lu.perm_c == identity).all()):
-            raise RuntimeError("the separated slab LU pivoted: use -vst_plane_whole_lu 1")
+            raise SolveFailed("the slab matrix's interior LU met a zero pivot "
+                              "(-vst_plane_whole_lu 1 factors the whole matrix instead)")
         L, U = lu.L.tocsr(), lu.U.tocsr()
         del lu
         self.n = n
-        self.L_SI, self.U_IS = L[n:, :n].tocsr(), U[:n, n:].tocsr()
+        self.schur_part = L[n:, n:].toarray() @ U[n:, n:].toarray() - B[n:, n:].toarray()
         self.lib = library() if PETSc.Options().getBool("vst_native", True) else None
         if self.lib is not None:
-            self.lower = _sweep_blocks(L[:n, :n], n // BLOCK, False)
-            self.upper = _sweep_blocks(U[:n, :n], n // BLOCK, True)
+            self.lower = _sweep_blocks(L[:, :n], B.shape[0] // BLOCK, False)
+            self.upper = _sweep_blocks(U, n // BLOCK, True)
         else:
-            self.lower, self.upper = L[:n, :n].tocsr(), U[:n, :n].tocsr()
+            self.lower = (L[:n, :n].tocsr(), L[n:, :n].tocsr())
+            self.upper = (U[:n, :n].tocsr(), U[:n, n:].tocsr())
 
     def stored(self):
         """The factor values this rank holds."""
-        held = [self.L_SI.nnz, self.U_IS.nnz]
-        for f in (self.lower, self.upper):
-            held += [f[2].size + f[3].size] if isinstance(f, tuple) else [f.nnz]
-        return sum(held)
-
-    def schur_part(self):
-        """-L_SI U_IS (dense): this rank's term of the Schur complement."""
-        return -(self.L_SI @ self.U_IS).toarray()
+        if self.lib is not None:
+            return sum(f[2].size + f[3].size for f in (self.lower, self.upper))
+        return sum(f.nnz for pair in (self.lower, self.upper) for f in pair)
 
     def _sweep(self, blocks, x, backward):
+        """x <- the sweep of ``blocks`` over x (n + ns, or (n + ns) x k: k
+        at once)."""
         ptr, col, off, dinv = blocks
-        self.lib.vst_block_sweep(ptr.size - 1, backward, ptr.ctypes.data, col.ctypes.data,
-                                 off.ctypes.data, dinv.ctypes.data, x.ctypes.data)
-
-    def forward(self, b_I):
-        """z = L_II^-1 b_I (kept) and -L_SI z."""
-        if self.lib is not None:
-            self.z = np.array(b_I, dtype=float)
-            self._sweep(self.lower, self.z, 0)
+        pointers = (ptr.ctypes.data, col.ctypes.data, off.ctypes.data, dinv.ctypes.data,
+                    x.ctypes.data)
+        if x.ndim == 1:
+            self.lib.vst_block_sweep(ptr.size - 1, backward, *pointers)
         else:
-            self.z = spla.spsolve_triangular(self.lower, b_I, lower=True, unit_diagonal=True)
-        return -(self.L_SI @ self.z)
+            self.lib.vst_block_sweep_many(ptr.size - 1, backward, *pointers, x.shape[1])
 
-    def backward(self, x_S):
-        """x_I = U_II^-1 (z - U_IS x_S)."""
-        y = self.z - self.U_IS @ x_S
-        if self.lib is None:
-            return spla.spsolve_triangular(self.upper, y, lower=False)
-        self._sweep(self.upper, y, 1)
-        return y
+    def forward(self, x):
+        """x = (b_I, b_S) <- (z = L_II^-1 b_I, b_S - L_SI z), in place."""
+        if self.lib is not None:
+            return self._sweep(self.lower, x, 0)
+        L_II, L_SI = self.lower
+        x[:self.n] = spla.spsolve_triangular(L_II, x[:self.n], lower=True, unit_diagonal=True)
+        x[self.n:] -= L_SI @ x[:self.n]
+
+    def backward(self, x):
+        """x = (z, x_S) <- (U_II^-1 (z - U_IS x_S), x_S), in place."""
+        if self.lib is not None:
+            return self._sweep(self.upper, x, 1)
+        U_II, U_IS = self.upper
+        x[:self.n] = spla.spsolve_triangular(U_II, x[:self.n] - U_IS @ x[self.n:], lower=False)
 
 
 class SeparatedLU:
@@ -196,27 +208,41 @@ class SeparatedLU:
         B = _submatrix(A, local, local)
         n = BLOCK * interior.size
         self.part = Interior(B, n)
-        terms = self.part.schur_part()
+        terms = self.part.schur_part
         self.mpi.Allreduce(terms.copy(), terms)
-        self.schur = scipy.linalg.lu_factor(B[n:, n:].toarray() + terms)
-        del B
+        # (one rank: no separator, the interior LU alone)
+        self.schur = scipy.linalg.lu_factor(B[n:, n:].toarray() + terms) if S.size else None
+        del B, self.part.schur_part
         dofs = lambda nodes: (BLOCK * (nodes[:, None] - lo) + np.arange(BLOCK)).ravel()
         self.interior_rows = dofs(interior)
         owned = (S >= lo) & (S < hi)
+        self.separated = BLOCK * S.size
         self.s_rows, self.s_owned = dofs(S[owned]), (
             np.flatnonzero(owned)[:, None] * BLOCK + np.arange(BLOCK)).ravel()
-        self.g = np.zeros(BLOCK * S.size)
 
     def apply(self, pc, b, x):
-        b = b.getArray(readonly=True)
-        g = self.part.forward(b[self.interior_rows])
-        g[self.s_owned] += b[self.s_rows]
-        self.mpi.Allreduce(g, self.g)
-        x_S = scipy.linalg.lu_solve(self.schur, self.g)
-        out = np.empty(b.size)
-        out[self.interior_rows] = self.part.backward(x_S)
-        out[self.s_rows] = x_S[self.s_owned]
-        x.setArray(out)
+        x.setArray(self.solve_many(b.getArray(readonly=True)))
+
+    def solve_many(self, b):
+        """This rank's rows of A^-1 b for its rows ``b`` (n, or n x k: k
+        solves at once, each column's the bits of its own solve)
+        (collective)."""
+        n = self.interior_rows.size
+        x = np.zeros((n + self.separated,) + b.shape[1:])
+        x[:n] = b[self.interior_rows]
+        x[n + self.s_owned] = b[self.s_rows]
+        self.part.forward(x)
+        g = x[n:].copy()
+        self.mpi.Allreduce(g, x[n:])
+        if self.schur is not None and x.ndim == 2:
+            x[n:] = np.column_stack([scipy.linalg.lu_solve(self.schur, c) for c in x[n:].T])
+        elif self.schur is not None:
+            x[n:] = scipy.linalg.lu_solve(self.schur, x[n:])
+        self.part.backward(x)
+        out = np.empty(b.shape)
+        out[self.interior_rows] = x[:n]
+        out[self.s_rows] = x[n + self.s_owned]
+        return out
 
 
 def separated_lu(ksp):
