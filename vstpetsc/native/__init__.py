@@ -38,8 +38,8 @@ def library():
             lib.vst_penalty_advance.restype = None
             for name, args in (("vst_close", [_P]),
                                ("vst_rows_copy", [_P, ctypes.c_int, ctypes.c_long]),
-                               ("vst_block_sweep", [ctypes.c_long, ctypes.c_int] + [_P] * 5),
-                               ("vst_block_sweep_many",
+                               ("vst_column_sweep", [ctypes.c_long, ctypes.c_int] + [_P] * 5),
+                               ("vst_column_sweep_many",
                                 [ctypes.c_long, ctypes.c_int] + [_P] * 5 + [ctypes.c_long])):
                 getattr(lib, name).argtypes = args
                 getattr(lib, name).restype = None

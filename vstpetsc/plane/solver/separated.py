@@ -103,35 +103,53 @@ def _nested_dissection(graph):
     return order
 
 
-def _sweep_blocks(T, rows, backward):
-    """(ptr, cols, off-diagonal blocks, inverse diagonal blocks) of the
-    first ``rows`` block rows of T (CSR) in the order a sweep takes them
-    (vst_block_sweep: descending for the backward one); a row without a
-    diagonal block takes the identity."""
-    T = sp.csr_matrix(T[:BLOCK * rows]).tobsr(blocksize=(BLOCK, BLOCK))
-    T.sort_indices()
-    row = np.repeat(np.arange(rows), np.diff(T.indptr))
-    diag = row == T.indices
-    dinv = np.broadcast_to(np.eye(BLOCK), (rows, BLOCK, BLOCK)).copy()
-    dinv[row[diag]] = np.linalg.inv(T.data[diag])
-    row, col, off = row[~diag], T.indices[~diag], T.data[~diag]
-    step = row
+def _ordered(outer, inner, blocks, dinv, count, backward):
+    """(ptr, inner, blocks, dinv) in the order a sweep takes its ``count``
+    lines (rows or columns ``outer``; descending for the backward one)."""
+    step = outer
     if backward:
-        order = np.lexsort((np.arange(row.size), -row))
-        row, col, off, dinv = row[order], col[order], off[order], dinv[::-1]
-        step = rows - 1 - row
-    ptr = np.concatenate([[0], np.cumsum(np.bincount(step, minlength=rows))])
-    return (ptr.astype(np.int32), col.astype(np.int32), np.ascontiguousarray(off),
+        order = np.lexsort((np.arange(outer.size), -outer))
+        outer, inner, blocks, dinv = outer[order], inner[order], blocks[order], dinv[::-1]
+        step = count - 1 - outer
+    ptr = np.concatenate([[0], np.cumsum(np.bincount(step, minlength=count))])
+    return (ptr.astype(np.int32), inner.astype(np.int32), np.ascontiguousarray(blocks),
             np.ascontiguousarray(dinv))
+
+
+def _line_blocks(T, count, limit):
+    """(line, other, T's blocks, inverse diagonal blocks) of the first
+    ``count`` block rows of the CSR T (or columns: T transposed, its
+    blocks transposed back), keeping blocks whose other index is below
+    ``limit``; a line without a diagonal block takes the identity."""
+    T = T[:BLOCK * count].tobsr(blocksize=(BLOCK, BLOCK))
+    T.sort_indices()
+    line = np.repeat(np.arange(count), np.diff(T.indptr))
+    below = T.indices < limit
+    diag = (T.indices == line) & below
+    dinv = np.broadcast_to(np.eye(BLOCK), (count, BLOCK, BLOCK)).copy()
+    dinv[line[diag]] = np.linalg.inv(T.data[diag])
+    keep = ~diag & below
+    return line[keep], T.indices[keep], T.data[keep], dinv
+
+
+def _by_columns(T, columns, rows, backward):
+    """vst_column_sweep's blocks of T (CSC: SuperLU's L or U) over its
+    first ``columns`` block columns and first ``rows`` block rows."""
+    Tt = sp.csr_matrix((T.data, T.indices, T.indptr), shape=T.shape[::-1])  # T^T by rows
+    column, row, blocks, dinv = _line_blocks(Tt, columns, rows)
+    # (T^T's blocks are T's transposed; so are their inverses)
+    return _ordered(column, row, blocks.transpose(0, 2, 1), dinv.transpose(0, 2, 1),
+                    columns, backward)
 
 
 class Interior:
     """A rank's factors of B_r = A restricted to its interior I (nested
     dissection, n unknowns) and the separator S (last, ns): a vector
-    x = (x_I, x_S) is swept forwards by L's rows over I's columns (x_I <-
-    L_II^-1 x_I, then x_S <- x_S - L_SI x_I) and backwards by U's rows
-    of I (x_I <- U_II^-1 (x_I - U_IS x_S)); ``schur_part`` is this rank's
-    L_SS U_SS - A_SS = -L_SI U_IS (the trailing block of the factors)."""
+    x = (x_I, x_S) is swept forwards by L's columns of I (x_I <- L_II^-1
+    x_I, x_S <- x_S - L_SI x_I) and backwards by U's columns over the
+    rows of I (x_I <- U_II^-1 (x_I - U_IS x_S)); ``schur_part`` is this
+    rank's L_SS U_SS - A_SS = -L_SI U_IS (the trailing block of the
+    factors)."""
 
     def __init__(self, B, n):
         lu = spla.splu(sp.csc_matrix(B), permc_spec="NATURAL", diag_pivot_thresh=0.0,
@@ -140,14 +158,15 @@ class Interior:
         if not ((lu.perm_r == identity).all() and (lu.perm_c == identity).all()):
             raise SolveFailed("the slab matrix's interior LU met a zero pivot "
                               "(-vst_plane_whole_lu 1 factors the whole matrix instead)")
-        L, U = lu.L.tocsr(), lu.U.tocsr()
+        L, U = lu.L, lu.U                   # (CSC)
         del lu
         self.n = n
         self.schur_part = L[n:, n:].toarray() @ U[n:, n:].toarray() - B[n:, n:].toarray()
         self.lib = library() if PETSc.Options().getBool("vst_native", True) else None
         if self.lib is not None:
-            self.lower = _sweep_blocks(L[:, :n], B.shape[0] // BLOCK, False)
-            self.upper = _sweep_blocks(U, n // BLOCK, True)
+            nodes = B.shape[0] // BLOCK
+            self.lower = _by_columns(L, n // BLOCK, nodes, False)
+            self.upper = _by_columns(U, nodes, n // BLOCK, True)
         else:
             self.lower = (L[:n, :n].tocsr(), L[n:, :n].tocsr())
             self.upper = (U[:n, :n].tocsr(), U[:n, n:].tocsr())
@@ -161,13 +180,13 @@ class Interior:
     def _sweep(self, blocks, x, backward):
         """x <- the sweep of ``blocks`` over x (n + ns, or (n + ns) x k: k
         at once)."""
-        ptr, col, off, dinv = blocks
-        pointers = (ptr.ctypes.data, col.ctypes.data, off.ctypes.data, dinv.ctypes.data,
+        ptr, index, off, dinv = blocks
+        pointers = (ptr.ctypes.data, index.ctypes.data, off.ctypes.data, dinv.ctypes.data,
                     x.ctypes.data)
         if x.ndim == 1:
-            self.lib.vst_block_sweep(ptr.size - 1, backward, *pointers)
+            self.lib.vst_column_sweep(ptr.size - 1, backward, *pointers)
         else:
-            self.lib.vst_block_sweep_many(ptr.size - 1, backward, *pointers, x.shape[1])
+            self.lib.vst_column_sweep_many(ptr.size - 1, backward, *pointers, x.shape[1])
 
     def forward(self, x):
         """x = (b_I, b_S) <- (z = L_II^-1 b_I, b_S - L_SI z), in place."""

@@ -23,7 +23,7 @@ from petsc4py import PETSc
 from vstpetsc.errors import InputError
 from vstpetsc.spacetime.history import History
 from vstpetsc.plane.assembly import identity_rows
-from vstpetsc.plane.solver.matrices import petsc_matrix
+from vstpetsc.plane.solver.matrices import node_matrix
 
 PREFIX = "vst_static_"
 SETTLE_ROUNDS = 30
@@ -88,7 +88,7 @@ def _refuse_free(mesh, held, pairs=None, state=None):
 
 def _linear_solve(K, held, rhs):
     """u with K u = rhs (held rows identities), by PETSc's LU on rank 0."""
-    A = petsc_matrix(identity_rows(K.tocsr(), held, 0), PETSc.COMM_SELF)
+    A = node_matrix(identity_rows(K.tocsr(), held, 0), PETSc.COMM_SELF)
     ksp = PETSc.KSP().create(comm=PETSc.COMM_SELF)
     ksp.setOptionsPrefix(PREFIX)
     ksp.setOperators(A)
