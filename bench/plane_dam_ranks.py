@@ -19,7 +19,7 @@ import vstpetsc
 from vstpetsc import bundled
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-END, REPEATS = 1.5, 3
+END, REPEATS = 1.5, 5
 
 
 def dam_case(folder, end):
@@ -69,15 +69,17 @@ def section(out):
         f"| 2 | {out['2_min_s']:.2f} / {out['2_median_s']:.2f} |", "",
         f"Speed-up {out['speedup_min']:.2f} (minima) / {out['speedup_median']:.2f} (medians).",
         "",
-        "Where the time goes (cProfile of each rank, 2026-12-06, two ranks, 9.75 s in all): "
-        "set-up 2.15 s (the redundant LU's factorisation 0.94 s on every rank, the static "
-        "start 0.57 s on rank 0); the slabs' solves with every rank's LU 2.54 s (375 slabs, "
-        "6.8 ms each, the one-rank solve on both); the pairs' Newton 2.64 s on rank 0 (its "
-        "coupling columns 1.06 s, dealt to the ranks: 148 solves each, 0.90 s), while rank 1 "
-        "waits 2.5 s in broadcasts; the output rows' stresses 0.55 s on rank 0. Before the "
-        "columns were dealt, 10.66 s. What a second rank cannot share here: the whole LU "
-        "(nothing parallel solved these slabs as fast, docs/parallel.md), the pairs' kernels "
-        "and Newton steps, the static start: at least 6.3 s of the 9.4-10.2 s one-rank run.",
+        "Where the time goes (cProfile of each rank, 2026-12-07). Two ranks, 7.1 s in all: "
+        "set-up 1.96 s (each rank's interior LU and the separator, "
+        "vstpetsc/plane/solver/separated.py, 0.79 s; the static start 0.42 s on rank 0; the "
+        "model 0.41 s); the slabs 4.90 s: their solves (375, 3.3-3.6 ms each against 5.6-6.2 "
+        "for the one-rank LU), the interfaces' coupling columns 0.82 s (296, solved together "
+        "as pairs first need them, 44 times), the pairs' own Newton 1.1 s on rank 0 while "
+        "rank 1 waits, each rank's corrections 0.43 s. One rank, 9.0 s: set-up 1.82 s (LU "
+        "0.79 s, static start 0.39 s, model 0.30 s), slabs 7.09 s (their solves 2.2 s, the "
+        "columns 1.95 s, corrections 0.69 s). What a second rank does not share: the set-up "
+        "(its LU halves, the rest does not), the static start, the pairs' Newton. Before "
+        "this step (every rank's LU of the whole matrix): 1.09 / 1.11.",
         ""])
 
 

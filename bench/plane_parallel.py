@@ -7,7 +7,7 @@ right-hand side's products, the solve, the update.  Run under mpirun by
 the parent (``main``), which prints one table; min / median of the
 slabs' times after the first few.
 
-    .venv/bin/python bench/plane_parallel.py [CELLS] [--ranks 1,2,4] [--all]
+    .venv/bin/python bench/plane_parallel.py [CELLS] [--ranks 1,2,4] [--all | --solver NAME]
 
 (--ranks beyond the cores oversubscribe them: a check that each solver
 runs and what it iterates, not a speed.)
@@ -33,7 +33,10 @@ SOLVERS = {"GMRES + bjacobi/ILU(0)": ["-vst_plane_ksp_type", "gmres", "-vst_plan
                         "mumps"],
            "GMRES + GAMG (AIJ)": ["-vst_plane_blocks", "0", "-vst_plane_ksp_type", "gmres",
                                   "-vst_plane_pc_type", "gamg", "-vst_plane_ksp_rtol", "1e-12"],
-           "every rank's LU (redundant)": ["-vst_plane_pc_type", "redundant"]}
+           "every rank's LU (redundant)": ["-vst_plane_pc_type", "redundant"],
+           "every rank's LU, written out": ["-vst_plane_whole_lu", "1"],
+           # (the default on several ranks; one rank: PETSc's LU)
+           "interiors' LU + separator": []}
 # the solvers of a plain run (`make bench`); --all: every one of SOLVERS
 MAIN = ("GMRES + bjacobi/ILU(0)", "GMRES + ASM(2)/ILU(0)", "LU mumps")
 
@@ -140,5 +143,9 @@ if __name__ == "__main__":
             ranks = tuple(int(r) for r in args[at + 1].split(","))
             del args[at:at + 2]
         names = tuple(SOLVERS) if "--all" in args else MAIN
+        if "--solver" in args:
+            at = args.index("--solver")
+            names = (args[at + 1],)
+            del args[at:at + 2]
         args = [a for a in args if a != "--all"]
         main(*(int(float(a)) for a in args[:1]), ranks=ranks, names=names)

@@ -3,13 +3,13 @@ separator: each rank factors its own part, a small dense Schur complement
 joins them (the default beyond the Schwarz default's Courant number up to
 stepper.REDUNDANT_UNKNOWNS).
 
-The separator S is the nodes of each rank that couple (in A or A^T) with
-a node of a higher rank; the rest of a rank's nodes, its interior I_r,
-couple with its own and with S alone.  So with B_r = A restricted to I_r
+The separator S is, between two ranks whose nodes couple (in A or A^T),
+the coupled nodes of the rank with more nodes; the rest of a rank's
+nodes, its interior I_r, couple with its own and with S alone.  So with B_r = A restricted to I_r
 and S (S last), factored B_r = L U with no pivots (as PETSc's LU) in
 nested dissection of I_r,
 
-    A_SI_r A_II_r^-1 A_IS_r = L_SI U_IS,
+    A_SI_r A_II_r^-1 A_IS_r = L_SI U_IS = A_SS - L_SS U_SS,
     Schur = A_SS - sum_r L_SI U_IS        (dense, every rank),
 
 and a solve of A x = b is, on each rank, a forward sweep z = L_II^-1 b_I,
@@ -17,12 +17,15 @@ the separator's right-hand side g = b_S - sum_r L_SI z (one allreduce of
 |S| numbers), x_S = Schur^-1 g (every rank, the same bits), and a
 backward sweep x_I = U_II^-1 (z - U_IS x_S): each rank reads its own
 factors once, about half the whole matrix's on two ranks.  The factors
-(SuperLU's, scipy) are kept in 4 x 4 node blocks and swept by the
-compiled vst_block_sweep (without it, scipy's triangular solves).
+(SuperLU's, scipy) are kept in 4 x 4 node blocks by columns and swept
+by the compiled vst_column_sweep (native/block_sweep.c; without it, or
+with -vst_native 0, scipy's triangular solves).
 
-On the 1 m rockfill dam's slab matrix (12 942 nodes, cut in two): a
-rank's solve 2.3 ms against the whole matrix's PETSc LU 5.6-6.2 ms, its
-factorisation 0.3 s against 0.85 s (bench/README.md)."""
+On the 1 m rockfill dam's slab matrix (12 942 nodes; DMPlex's two parts,
+the separator 108 nodes) the two ranks' solves at once took 2.9-3.6 ms
+against 5.6-6.2 for the whole matrix's PETSc LU on one, their set-up
+0.5-0.8 s against 0.8-0.9 (docs/parallel.md, bench/README.md "Two ranks
+on a dam")."""
 
 import numpy as np
 import scipy.linalg

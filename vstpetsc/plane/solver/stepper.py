@@ -9,7 +9,9 @@ gives the CSR of the rows it owns (global columns; its dofs from
 ``first``), vstpetsc.plane.solver.distributed.  The linear solver: options
 prefix ``vst_plane_``; by default PETSc's LU (nested dissection) on one
 rank, on several GMRES with ASM(ILU(0)) blocks up to Vp dt / h = 2,
-beyond every rank's LU of the whole matrix up to REDUNDANT_UNKNOWNS and
+beyond each rank's LU of its interior with the separator's Schur
+complement (or with ``-vst_plane_whole_lu 1`` every rank's LU of the
+whole matrix) up to REDUNDANT_UNKNOWNS and
 MUMPS's LU above (bench/plane_solvers.py measures the choices).  A run
 uses the linear solver through vstpetsc.plane.solver.slab_solver; PlaneSlabs steps
 bare M, K for the tests and benches that need no case."""
@@ -42,12 +44,14 @@ SCHWARZ_COURANT = 2.0
 SCHWARZ_OVERLAP = 2
 KRYLOV_RTOL = 1e-12
 # Beyond it, up to this many slab unknowns (1e5 cells of quadrilaterals),
-# every rank factors the whole slab matrix (PETSc's redundant LU, written
-# out: vstpetsc.plane.solver.redundant): on two
-# ranks 15.6 against MUMPS's 28.5 ms a slab at 2e4 cells, 61.9 against
-# 145.4 at 1e5 (c dt / h = 4; one rank 12.5, 68.2), and a run repeats bit
-# for bit; larger, MUMPS (its factors shared out: at 2e5 cells 2.2 GB a
-# rank against the redundant LU's 3.5, set-up 15 against 63 s).
+# each rank factors its interior and the separator
+# (vstpetsc.plane.solver.separated): at 5e4 cells on two ranks 20.7 ms a
+# slab against 29.7 for every rank's LU of the whole matrix
+# (``-vst_plane_whole_lu 1``: vstpetsc.plane.solver.redundant, itself 15.6
+# against MUMPS's 28.5 ms at 2e4 cells, 61.9 against 145.4 at 1e5, c dt /
+# h = 4); larger, MUMPS (its factors shared out: at 2e5 cells 2.2 GB a
+# rank against the whole LU's 3.5, set-up 15 against 63 s; the separated
+# LU not measured there).
 REDUNDANT_UNKNOWNS = 400_000
 # preconditioners whose set-up holds what they apply (factors, blocks of
 # their own): once set up they need no more of the slab matrix (a Jacobi
@@ -81,8 +85,9 @@ def linear_solver(A, comm, courant=None, operator=None):
     """The KSP of the slab matrix A (options prefix ``vst_plane_``), set up
     (factored) here, once: PETSc's LU in nested dissection on one rank; on
     several, GMRES with ASM(ILU(0)) blocks for slabs of c dt / h up to
-    SCHWARZ_COURANT (``courant``, None: unknown) and beyond every rank's
-    LU of the whole matrix up to REDUNDANT_UNKNOWNS, MUMPS's LU above;
+    SCHWARZ_COURANT (``courant``, None: unknown) and beyond each rank's
+    interior LU and the separator up to REDUNDANT_UNKNOWNS, MUMPS's LU
+    above;
     any option of the database overrides it.  With ``operator`` (the
     slab's product without A: vstpetsc.plane.solver.slab_product) A serves
     to set up the preconditioner alone and is destroyed then (when the
