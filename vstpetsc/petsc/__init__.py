@@ -74,6 +74,25 @@ def plain_before_petsc_ends(obj, how):
     _PLAIN_AT_EXIT[key] = (weakref.ref(obj, lambda _: _PLAIN_AT_EXIT.pop(key, None)), how)
 
 
+def python_preconditioner(ksp, context):
+    """Make ``ksp``'s preconditioner the Python ``context``, plain again
+    before PETSc ends (plain_before_petsc_ends)."""
+    pc = ksp.getPC()
+    pc.setType("python")
+    pc.setPythonContext(context)
+    plain_before_petsc_ends(ksp, lambda ksp: ksp.getPC().setType("none"))
+
+
+def python_context(ksp, kind):
+    """The Python context of ``ksp``'s preconditioner if it is a direct
+    solve (KSP preonly) by an object of type ``kind``, else None."""
+    pc = ksp.getPC()
+    if ksp.getType() != "preonly" or pc.getType() != "python":
+        return None
+    context = pc.getPythonContext()
+    return context if isinstance(context, kind) else None
+
+
 def _before_petsc_ends():
     for alive, how in list(_PLAIN_AT_EXIT.values()):
         obj = alive()

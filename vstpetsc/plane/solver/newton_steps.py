@@ -21,7 +21,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.plane.solver.redundant import factors_at_hand
-from vstpetsc.plane.solver.separated import SeparatedLU
+from vstpetsc.plane.solver.separated import separated_at_hand
 
 DENSE_PAIRS = 1000
 
@@ -78,8 +78,8 @@ class Coupling:
         self.dealt = None
         if comm.getSize() > 1 and factors_at_hand(inner) is not None:
             self.dealt = DealtColumns(factors_at_hand(inner), dofs, self.u, comm)
-        elif comm.getSize() > 1 and _separated(inner) is not None:
-            self.dealt = ColumnsTogether(_separated(inner), dofs, self.u, comm)
+        elif comm.getSize() > 1 and separated_at_hand(inner) is not None:
+            self.dealt = ColumnsTogether(separated_at_hand(inner), dofs, self.u, comm)
 
     def ensure(self, wanted):
         """Form the columns of the pairs ``wanted`` (rank 0's list; every
@@ -106,15 +106,6 @@ class Coupling:
             z = self.dofs.gather(self.u)
             if self.rank0:
                 self.S[:, j] = self.pairs.coordinates(z).ravel()
-
-
-def _separated(ksp):
-    """The SeparatedLU of ``ksp``'s preconditioner, or None."""
-    pc = ksp.getPC()
-    if ksp.getType() != "preonly" or pc.getType() != "python":
-        return None
-    context = pc.getPythonContext()
-    return context if isinstance(context, SeparatedLU) else None
 
 
 def _column_loads(dofs, pairs, columns, comm):

@@ -13,7 +13,7 @@ solve with an unknown's unit load, are dealt to the ranks."""
 import numpy as np
 from petsc4py import PETSc
 
-from vstpetsc.petsc import plain_before_petsc_ends
+from vstpetsc.petsc import python_context, python_preconditioner
 
 
 class WholeOnEveryRank:
@@ -54,16 +54,9 @@ class WholeOnEveryRank:
 
 def whole_on_every_rank(ksp):
     """Make ``ksp``'s preconditioner a WholeOnEveryRank."""
-    pc = ksp.getPC()
-    pc.setType("python")
-    pc.setPythonContext(WholeOnEveryRank())
-    plain_before_petsc_ends(ksp, lambda ksp: ksp.getPC().setType("none"))
+    python_preconditioner(ksp, WholeOnEveryRank())
 
 
 def factors_at_hand(ksp):
     """The WholeOnEveryRank of ``ksp``'s preconditioner, or None."""
-    pc = ksp.getPC()
-    if ksp.getType() != "preonly" or pc.getType() != "python":
-        return None
-    context = pc.getPythonContext()
-    return context if isinstance(context, WholeOnEveryRank) else None
+    return python_context(ksp, WholeOnEveryRank)

@@ -35,7 +35,7 @@ from petsc4py import PETSc
 
 from vstpetsc.errors import SolveFailed
 from vstpetsc.native import library
-from vstpetsc.petsc import plain_before_petsc_ends
+from vstpetsc.petsc import python_context, python_preconditioner
 
 BLOCK = 4
 
@@ -269,7 +269,9 @@ class SeparatedLU:
 
 def separated_lu(ksp):
     """Make ``ksp``'s preconditioner a SeparatedLU."""
-    pc = ksp.getPC()
-    pc.setType("python")
-    pc.setPythonContext(SeparatedLU())
-    plain_before_petsc_ends(ksp, lambda ksp: ksp.getPC().setType("none"))
+    python_preconditioner(ksp, SeparatedLU())
+
+
+def separated_at_hand(ksp):
+    """The SeparatedLU of ``ksp``'s preconditioner, or None."""
+    return python_context(ksp, SeparatedLU)

@@ -22,7 +22,7 @@ from petsc4py import PETSc
 from vstpetsc.plane.solver.heap import give_back
 from vstpetsc.plane.solver.matrices import node_matrix, slab_operator
 from vstpetsc.plane.solver.redundant import factors_at_hand, whole_on_every_rank
-from vstpetsc.plane.solver.separated import SeparatedLU, separated_lu
+from vstpetsc.plane.solver.separated import separated_at_hand, separated_lu
 
 PREFIX = "vst_plane_"
 
@@ -132,7 +132,7 @@ def describe(ksp):
         kind += f" ({pc.getFactorSolverType()})"
     elif factors_at_hand(ksp) is not None:
         kind = ksp.getType() + "/LU of the whole matrix on every rank"
-    elif pc.getType() == "python" and isinstance(pc.getPythonContext(), SeparatedLU):
+    elif separated_at_hand(ksp) is not None:
         kind = ksp.getType() + "/each rank's LU of its interior, the separator's Schur complement"
     if ksp.getOperators()[0].getType() == "python":
         kind += ", matrix-free products"
