@@ -153,7 +153,7 @@ class PairSet:
         self.normal_force, self.shear_force = np.zeros(self.m), np.zeros(self.m)
         self.out = np.zeros((self.m, pk.OUT))
         self.y = np.zeros((self.m, 4))
-        self.cross = np.zeros((self.m, 2, 2))
+        self._cross_at = np.zeros((self.m, 2, 2))
 
     @property
     def spring_t(self):
@@ -194,14 +194,24 @@ class PairSet:
         self.evaluate_at(self.coordinates(z))
 
     def evaluate_at(self, y):
-        """The kernels at the pairs' coordinates y (m, 4): fills ``out``,
-        ``y`` and ``cross``."""
+        """The kernels at the pairs' coordinates y (m, 4): fills ``out``
+        and ``y`` (``cross`` is formed when first asked for: a Newton's
+        trials that are not taken never need it)."""
         self.y = y
         for info, kernel in zip(self.infos, self.kernels):
             s = info.pairs
             self.out[s] = kernel.evaluate(self.gap[s], self.y[s], self.stretch[s])
-            if info.friction is not None:
-                self.cross[s] = self._cross(kernel, s)
+        self._cross_at = None
+
+    @property
+    def cross(self):
+        """d f_t / d d (m, 2, 2) at the last evaluation (``_cross``)."""
+        if self._cross_at is None:
+            self._cross_at = np.zeros((self.m, 2, 2))
+            for info, kernel in zip(self.infos, self.kernels):
+                if info.friction is not None:
+                    self._cross_at[info.pairs] = self._cross(kernel, info.pairs)
+        return self._cross_at
 
     def _cross(self, kernel, s):
         """d f_t / d d (m, 2, 2) by forward differences: friction's limit

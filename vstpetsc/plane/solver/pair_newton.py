@@ -174,11 +174,12 @@ class PairNewton(HeldWork):
             return step
         rows = (4 * K[:, None] + np.arange(4)).ravel()
         SK = self.coupling.S[:, rows]                              # (4m, 4k)
-        # S_K times the blocks of D: a batched product (4m x 4 by 4 x 4, one per pair)
-        SD = np.matmul(SK.reshape(-1, K.size, 4).transpose(1, 0, 2), D[K])
-        SD = SD.transpose(1, 0, 2).reshape(-1, rows.size)
-        dK = np.linalg.solve(np.eye(rows.size) + SD[rows], -r.ravel()[rows])
-        flat = -r.ravel() - SD @ dK
+        # (S D)[rows] with D's 4 x 4 blocks: a batched product on the k rows
+        # of blocks; the rest of S D dK as S_K (D dK), a product with a vector
+        own = np.matmul(SK[rows].reshape(-1, K.size, 4).transpose(1, 0, 2), D[K])
+        own = own.transpose(1, 0, 2).reshape(rows.size, rows.size)
+        dK = np.linalg.solve(np.eye(rows.size) + own, -r.ravel()[rows])
+        flat = -r.ravel() - SK @ np.matmul(D[K], dK.reshape(-1, 4, 1)).ravel()
         flat[rows] = dK
         return flat.reshape(-1, 4)
 
