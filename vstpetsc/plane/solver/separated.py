@@ -150,8 +150,8 @@ class Interior:
     dissection, n unknowns) and the separator S (last, ns): a vector
     x = (x_I, x_S) is swept forwards by L's columns of I (x_I <- L_II^-1
     x_I, x_S <- x_S - L_SI x_I) and backwards by U's columns over the
-    rows of I (x_I <- U_II^-1 (x_I - U_IS x_S)); ``schur_part`` is this
-    rank's L_SS U_SS - A_SS = -L_SI U_IS (the trailing block of the
+    rows of I (x_I <- U_II^-1 (x_I - U_IS x_S)); ``take_schur_part`` gives
+    this rank's L_SS U_SS - A_SS = -L_SI U_IS (the trailing block of the
     factors)."""
 
     def __init__(self, B, n):
@@ -173,6 +173,11 @@ class Interior:
         else:
             self.lower = (L[:n, :n].tocsr(), L[n:, :n].tocsr())
             self.upper = (U[:n, :n].tocsr(), U[:n, n:].tocsr())
+
+    def take_schur_part(self):
+        """This rank's term of the Schur complement (given once: not kept)."""
+        part, self.schur_part = self.schur_part, None
+        return part
 
     def stored(self):
         """The factor values this rank holds."""
@@ -230,11 +235,11 @@ class SeparatedLU:
         B = _submatrix(A, local, local)
         n = BLOCK * interior.size
         self.part = Interior(B, n)
-        terms = self.part.schur_part
+        terms = self.part.take_schur_part()
         self.mpi.Allreduce(terms.copy(), terms)
         # (one rank: no separator, the interior LU alone)
         self.schur = scipy.linalg.lu_factor(B[n:, n:].toarray() + terms) if S.size else None
-        del B, self.part.schur_part
+        del B
         dofs = lambda nodes: (BLOCK * (nodes[:, None] - lo) + np.arange(BLOCK)).ravel()
         self.interior_rows = dofs(interior)
         owned = (S >= lo) & (S < hi)
