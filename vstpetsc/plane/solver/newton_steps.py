@@ -72,14 +72,14 @@ class Coupling:
         self.Z = np.zeros((n, local)) if keep else None     # rows: contiguous picks
         self.known = np.zeros(pairs.m, dtype=bool)
         self.solves = 0
-        # the columns dealt to the ranks when each holds the whole factors,
-        # solved together when each holds its part (the factors read once
-        # for all)
-        self.dealt = None
+        # beside each column a collective solve: the columns dealt to the
+        # ranks when each holds the whole factors, solved together when each
+        # holds its part (the factors read once for all)
+        self.by_ranks = None
         if comm.getSize() > 1 and factors_at_hand(inner) is not None:
-            self.dealt = DealtColumns(factors_at_hand(inner), dofs, self.u, comm)
+            self.by_ranks = DealtColumns(factors_at_hand(inner), dofs, self.u, comm)
         elif comm.getSize() > 1 and separated_at_hand(inner) is not None:
-            self.dealt = ColumnsTogether(separated_at_hand(inner), dofs, self.u, comm)
+            self.by_ranks = ColumnsTogether(separated_at_hand(inner), dofs, self.u, comm)
 
     def ensure(self, wanted):
         """Form the columns of the pairs ``wanted`` (rank 0's list; every
@@ -88,8 +88,8 @@ class Coupling:
         new = [int(p) for p in np.unique(wanted) if not self.known[p]]
         if not new:                 # (every rank knows the same pairs)
             return
-        if self.dealt is not None:
-            self.dealt.form([4 * p + c for p in new for c in range(4)], self)
+        if self.by_ranks is not None:
+            self.by_ranks.form([4 * p + c for p in new for c in range(4)], self)
         else:
             self._collective(new)
         self.known[new] = True
@@ -101,24 +101,38 @@ class Coupling:
             self.v.zeroEntries()
             self.dofs.add(_pair_vector(self.pairs, j) if self.rank0 else None, self.v)
             self.inner.solve(self.v, self.u)
-            if self.Z is not None:
-                self.Z[j] = self.u.getArray(readonly=True)
-            z = self.dofs.gather(self.u)
-            if self.rank0:
-                self.S[:, j] = self.pairs.coordinates(z).ravel()
+            self.keep(j, self.u.getArray(readonly=True), self.dofs.gather(self.u))
+
+    def keep(self, j, rows, z):
+        """Column j: this rank's ``rows`` into Z (if kept; None: already
+        there), its values ``z`` at the pairs' unknowns into S (rank 0's;
+        None elsewhere)."""
+        if self.Z is not None and rows is not None:
+            self.Z[j] = rows
+        if z is not None:
+            self.S[:, j] = self.pairs.coordinates(z).ravel()
 
 
-def _column_loads(dofs, pairs, columns, comm):
-    """Every rank's list of each column's load (global unknowns, values):
-    a unit load at one pair coordinate."""
-    loads = None
-    if comm.Get_rank() == 0:
-        loads = [(dofs.index[j // 4], _pair_vector(pairs, j)[j // 4] * dofs.free[j // 4])
-                 for j in columns]
-    return comm.bcast(loads, root=0)
+class _ColumnsByRanks:
+    """What both ways of forming columns by the ranks share: the pairs'
+    unknowns (rank 0's, every rank's copy) and the columns' loads."""
+
+    def __init__(self, dofs, comm):
+        self.dofs, self.comm = dofs, comm.tompi4py()
+        self.index = self.comm.bcast(dofs.index if dofs.rank0 else None, root=0)
+
+    def loads(self, pairs, columns):
+        """Every rank's list of each column's load (global unknowns,
+        values): a unit load at one pair coordinate."""
+        loads = None
+        if self.comm.Get_rank() == 0:
+            free = self.dofs.free
+            loads = [(self.index[j // 4], _pair_vector(pairs, j)[j // 4] * free[j // 4])
+                     for j in columns]
+        return self.comm.bcast(loads, root=0)
 
 
-class ColumnsTogether:
+class ColumnsTogether(_ColumnsByRanks):
     """The coupling's columns A_c^-1 E e_j solved at once by the ranks'
     separated LU (vstpetsc.plane.solver.separated: each rank sweeps its
     factors once for all the columns; every column the bits of its own
@@ -126,13 +140,13 @@ class ColumnsTogether:
     values at the pairs' unknowns (S)."""
 
     def __init__(self, separated, dofs, vec, comm):
-        self.separated, self.dofs, self.comm = separated, dofs, comm.tompi4py()
-        self.index = self.comm.bcast(dofs.index if dofs.rank0 else None, root=0)
+        super().__init__(dofs, comm)
+        self.separated = separated
         self.lo, self.hi = vec.getOwnershipRange()
 
     def form(self, columns, coupling):
         """Columns ``columns`` into coupling.Z and coupling.S (collective)."""
-        loads = _column_loads(self.dofs, coupling.pairs, columns, self.comm)
+        loads = self.loads(coupling.pairs, columns)
         B = np.zeros((self.hi - self.lo, len(columns)))
         for k, (index, values) in enumerate(loads):
             mine = (index >= self.lo) & (index < self.hi)
@@ -149,11 +163,10 @@ class ColumnsTogether:
         for where, values in parts:
             at_pairs[where] = values
         for k, j in enumerate(columns):
-            z = at_pairs[:, k].reshape(self.index.shape)
-            coupling.S[:, j] = coupling.pairs.coordinates(z).ravel()
+            coupling.keep(j, None, at_pairs[:, k].reshape(self.index.shape))
 
 
-class DealtColumns:
+class DealtColumns(_ColumnsByRanks):
     """The coupling's columns A_c^-1 E e_j dealt to the ranks, each rank
     solving its share alone with its factors of the whole matrix
     (vstpetsc.plane.solver.redundant): the same solves as the collective
@@ -162,15 +175,15 @@ class DealtColumns:
     the pairs' unknowns (S)."""
 
     def __init__(self, whole, dofs, vec, comm):
-        self.whole, self.dofs, self.comm = whole, dofs, comm.tompi4py()
+        super().__init__(dofs, comm)
+        self.whole = whole
         self.rank, self.size = comm.getRank(), comm.getSize()
-        self.index = self.comm.bcast(dofs.index if dofs.rank0 else None, root=0)
         self.ranges = self.comm.allgather(vec.getOwnershipRange())
 
     def form(self, columns, coupling):
         """Columns ``columns`` into coupling.Z (each rank's rows, if kept)
         and coupling.S (rank 0's) (collective)."""
-        loads = _column_loads(self.dofs, coupling.pairs, columns, self.comm)
+        loads = self.loads(coupling.pairs, columns)
         sent = [[] for _ in range(self.size)]
         for k in range(self.rank, len(columns), self.size):
             full = self.whole.solve_alone(*loads[k])
@@ -178,10 +191,7 @@ class DealtColumns:
                 sent[r].append((k, full[lo:hi], full[self.index] if r == 0 else None))
         for part in self.comm.alltoall(sent):
             for k, rows, z in part:
-                if coupling.Z is not None:
-                    coupling.Z[columns[k]] = rows
-                if z is not None:
-                    coupling.S[:, columns[k]] = coupling.pairs.coordinates(z).ravel()
+                coupling.keep(columns[k], rows, z)
 
 
 class _Jacobian:
