@@ -40,7 +40,9 @@ def library():
                                ("vst_rows_copy", [_P, ctypes.c_int, ctypes.c_long]),
                                ("vst_column_sweep", [ctypes.c_long, ctypes.c_int] + [_P] * 5),
                                ("vst_column_sweep_many",
-                                [ctypes.c_long, ctypes.c_int] + [_P] * 5 + [ctypes.c_long])):
+                                [ctypes.c_long, ctypes.c_int] + [_P] * 5 + [ctypes.c_long]),
+                               ("vst_block_columns",
+                                [ctypes.c_long, ctypes.c_long, ctypes.c_int] + [_P] * 8)):
                 getattr(lib, name).argtypes = args
                 getattr(lib, name).restype = None
         _loaded.append(lib)

@@ -1,3 +1,5 @@
+#include <stdlib.h>
+
 /* A sweep of a block-triangular solve by columns of 4 x 4 node blocks
  * (vstpetsc/plane/solver/separated.py): for each block column j in the
  * given order, x_j <- D_j x_j (D_j the inverse of its diagonal block, or
@@ -72,5 +74,65 @@ void vst_column_sweep_many(long columns, int descending, const int *ptr, const i
                     t[a * m + c] -= b[4 * a] * y[c] + b[4 * a + 1] * y[m + c]
                                     + b[4 * a + 2] * y[2 * m + c] + b[4 * a + 3] * y[3 * m + c];
         }
+    }
+}
+
+/* The blocks a sweep reads, gathered from a CSC factor T (SuperLU's L or
+ * U, scalar entries) in one pass over it: block column J < count, its
+ * blocks of block row I < limit.  Two calls: first with blocks == NULL to
+ * count each swept column's blocks (ptr[k + 1] = its count, k = J or
+ * count - 1 - J when descending), then, ptr made cumulative by the
+ * caller, to fill rows[], blocks[] (16 a block, row-major: T[4I + a,
+ * 4J + c] at 16 p + 4 a + c) and diag[] (16 for each swept column: its
+ * block (J, J) if J < limit, else left as given) in sweep order, a
+ * column's blocks by ascending block row (as scipy's sorted blocks were:
+ * unsorted, the backward sweep's scattered writes took 20 % longer).
+ * slot[] (nodes entries, all -1 on entry and on return) keeps where a
+ * block row went within the current column.  Replaces scipy's CSR
+ * transpose, conversion to 4 x 4 blocks and sort (0.26-0.29 s a rank on
+ * the 1 m rockfill dam's slab matrix; this, 0.05 s). */
+static int ascending(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+void vst_block_columns(long count, long limit, int descending, const int *indptr,
+                       const int *indices, const double *data, int *slot, int *ptr,
+                       int *rows, double *blocks, double *diag)
+{
+    for (long J = 0; J < count; J++) {
+        long k = descending ? count - 1 - J : J;
+        int used = 0, at = blocks ? ptr[k] : 0;
+        const int first = indptr[4 * J], last = indptr[4 * J + 4];
+        for (int p = first; p < last; p++) {      /* the column's block rows */
+            int I = indices[p] / 4;
+            if (I < limit && I != J && slot[I] < 0) {
+                slot[I] = used;
+                if (blocks)
+                    rows[at + used] = I;
+                used++;
+            }
+        }
+        if (!blocks) {
+            ptr[k + 1] = used;
+        } else {
+            qsort(rows + at, used, sizeof(int), ascending);
+            for (int q = 0; q < used; q++)
+                slot[rows[at + q]] = q;
+            for (long q = 16 * (long)at; q < 16 * (long)(at + used); q++)
+                blocks[q] = 0.0;
+            for (int c = 0; c < 4; c++)
+                for (int p = indptr[4 * J + c]; p < indptr[4 * J + c + 1]; p++) {
+                    int I = indices[p] / 4, a = indices[p] % 4;
+                    if (I == J && I < limit)
+                        diag[16 * k + 4 * a + c] = data[p];
+                    else if (I < limit)
+                        blocks[16 * (long)(at + slot[I]) + 4 * a + c] = data[p];
+                }
+        }
+        for (int p = first; p < last; p++)        /* the slots back to -1 */
+            if (indices[p] / 4 < limit)
+                slot[indices[p] / 4] = -1;
     }
 }

@@ -106,43 +106,32 @@ def _nested_dissection(graph):
     return order
 
 
-def _ordered(outer, inner, blocks, dinv, count, backward):
-    """(ptr, inner, blocks, dinv) in the order a sweep takes its ``count``
-    lines (rows or columns ``outer``; descending for the backward one)."""
-    step = outer
-    if backward:
-        order = np.lexsort((np.arange(outer.size), -outer))
-        outer, inner, blocks, dinv = outer[order], inner[order], blocks[order], dinv[::-1]
-        step = count - 1 - outer
-    ptr = np.concatenate([[0], np.cumsum(np.bincount(step, minlength=count))])
-    return (ptr.astype(np.int32), inner.astype(np.int32), np.ascontiguousarray(blocks),
-            np.ascontiguousarray(dinv))
-
-
-def _line_blocks(T, count, limit):
-    """(line, other, T's blocks, inverse diagonal blocks) of the first
-    ``count`` block rows of the CSR T (or columns: T transposed, its
-    blocks transposed back), keeping blocks whose other index is below
-    ``limit``; a line without a diagonal block takes the identity."""
-    T = T[:BLOCK * count].tobsr(blocksize=(BLOCK, BLOCK))
-    T.sort_indices()
-    line = np.repeat(np.arange(count), np.diff(T.indptr))
-    below = T.indices < limit
-    diag = (T.indices == line) & below
-    dinv = np.broadcast_to(np.eye(BLOCK), (count, BLOCK, BLOCK)).copy()
-    dinv[line[diag]] = np.linalg.inv(T.data[diag])
-    keep = ~diag & below
-    return line[keep], T.indices[keep], T.data[keep], dinv
-
-
-def _by_columns(T, columns, rows, backward):
+def _by_columns(lib, T, columns, rows, backward):
     """vst_column_sweep's blocks of T (CSC: SuperLU's L or U) over its
-    first ``columns`` block columns and first ``rows`` block rows."""
-    Tt = sp.csr_matrix((T.data, T.indices, T.indptr), shape=T.shape[::-1])  # T^T by rows
-    column, row, blocks, dinv = _line_blocks(Tt, columns, rows)
-    # (T^T's blocks are T's transposed; so are their inverses)
-    return _ordered(column, row, blocks.transpose(0, 2, 1), dinv.transpose(0, 2, 1),
-                    columns, backward)
+    first ``columns`` block columns and first ``rows`` block rows, in the
+    order the sweep takes them (native/block_sweep.c, vst_block_columns):
+    (ptr, rows, blocks, inverse diagonal blocks; the identity for a
+    column whose diagonal block lies beyond ``rows``)."""
+    indptr, indices = T.indptr.astype(np.int32), T.indices.astype(np.int32)
+    data = np.ascontiguousarray(T.data, dtype=float)
+    slot = np.full(T.shape[0] // BLOCK, -1, dtype=np.int32)
+    ptr = np.zeros(columns + 1, dtype=np.int32)
+    call = lambda *out: lib.vst_block_columns(columns, rows, int(backward), indptr.ctypes.data,
+                                              indices.ctypes.data, data.ctypes.data,
+                                              slot.ctypes.data, *out)
+    call(ptr.ctypes.data, None, None, None)
+    np.cumsum(ptr, out=ptr)
+    row, blocks = np.empty(ptr[-1], dtype=np.int32), np.empty((ptr[-1], BLOCK, BLOCK))
+    diag = np.zeros((columns, BLOCK, BLOCK))
+    call(ptr.ctypes.data, row.ctypes.data, blocks.ctypes.data, diag.ctypes.data)
+    swept = np.arange(columns)
+    column = columns - 1 - swept if backward else swept
+    has = (column < rows) & diag.any(axis=(1, 2))
+    dinv = np.broadcast_to(np.eye(BLOCK), diag.shape).copy()
+    # (inverted as the transposes' inverses, transposed back: the bits of
+    # the sweep's first form, from scipy's blocks of T^T)
+    dinv[has] = np.linalg.inv(diag[has].transpose(0, 2, 1)).transpose(0, 2, 1)
+    return ptr, row, blocks, dinv
 
 
 class Interior:
@@ -168,8 +157,8 @@ class Interior:
         self.lib = library() if PETSc.Options().getBool("vst_native", True) else None
         if self.lib is not None:
             nodes = B.shape[0] // BLOCK
-            self.lower = _by_columns(L, n // BLOCK, nodes, False)
-            self.upper = _by_columns(U, nodes, n // BLOCK, True)
+            self.lower = _by_columns(self.lib, L, n // BLOCK, nodes, False)
+            self.upper = _by_columns(self.lib, U, nodes, n // BLOCK, True)
         else:
             self.lower = (L[:n, :n].tocsr(), L[n:, :n].tocsr())
             self.upper = (U[:n, :n].tocsr(), U[:n, n:].tocsr())
