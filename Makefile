@@ -8,7 +8,7 @@ SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # /usr/lib/petsc alternative that petsc4py's .pth file looks for).
 DEBS  := python3-petsc4py python3-mpi4py python3-h5py python3-numpy python3-scipy \
          python3-matplotlib python3-threadpoolctl python3-pytest python3-pytest-xdist python3-hypothesis python3-venv \
-         python3-setuptools python3-pip libpetsc-real3.18-dev openmpi-bin gcc libc6-dev hdf5-tools
+         python3-setuptools python3-pip libpetsc-real3.18-dev libmetis5 openmpi-bin gcc libc6-dev hdf5-tools
 STAMP := $(VENV)/.installed
 # the compiled kernels (vstpetsc/native: the Newton for penalty pairs, the
 # end of a slab, the copies of kept rows); no fused multiply-adds, so that

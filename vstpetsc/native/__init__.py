@@ -57,3 +57,39 @@ def bind(struct, arrays):
         if kind is _P and name in arrays:
             setattr(struct, name, arrays[name].ctypes.data)
     return struct
+
+
+# METIS 5.1's NodeND (Debian's libmetis5, whose idx_t is 32 bits wide: its
+# metis.h, IDXTYPEWIDTH 32) with its default options (METIS_NOPTIONS of them)
+METIS = "libmetis.so.5"
+METIS_NOPTIONS = 40
+METIS_OK = 1
+_metis = []
+
+
+def metis_order(graph):
+    """METIS's nested dissection order (new position i takes node
+    order[i]) of the symmetric graph ``graph`` (CSR without its diagonal,
+    indices sorted), or None without the library.  METIS seeds its own
+    generator: the same graph, the same order, on any machine."""
+    import numpy as np
+
+    if not _metis:
+        try:
+            _metis.append(ctypes.CDLL(METIS))
+        except OSError:
+            _metis.append(None)
+    lib = _metis[0]
+    if lib is None:
+        return None
+    n = graph.shape[0]
+    xadj, adjncy = graph.indptr.astype(np.int32), graph.indices.astype(np.int32)
+    options = np.zeros(METIS_NOPTIONS, dtype=np.int32)
+    lib.METIS_SetDefaultOptions(options.ctypes.data_as(_P))
+    perm, iperm = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
+    status = lib.METIS_NodeND(ctypes.byref(ctypes.c_int32(n)), xadj.ctypes.data_as(_P),
+                              adjncy.ctypes.data_as(_P), None, options.ctypes.data_as(_P),
+                              perm.ctypes.data_as(_P), iperm.ctypes.data_as(_P))
+    if status != METIS_OK:
+        raise RuntimeError(f"METIS_NodeND failed ({status})")
+    return perm.astype(np.int64)

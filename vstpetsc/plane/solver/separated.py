@@ -34,7 +34,7 @@ import scipy.sparse.linalg as spla
 from petsc4py import PETSc
 
 from vstpetsc.errors import SolveFailed
-from vstpetsc.native import library
+from vstpetsc.native import library, metis_order
 from vstpetsc.petsc import python_context, python_preconditioner
 
 BLOCK = 4
@@ -94,10 +94,24 @@ def separator(own_rows, first, ranges, comm):
     return S, np.setdiff1d(np.arange(lo, hi), S_mine)
 
 
-def _nested_dissection(graph):
-    """PETSc's nested dissection order of a symmetric node graph (CSR)."""
+ORDERINGS = ("metis", "petsc")
+
+
+def _nested_dissection(graph, ordering):
+    """A nested dissection order of a symmetric node graph (CSR, its
+    diagonal ignored): ``ordering`` "metis", METIS's (Debian's libmetis5;
+    on the 1 m rockfill dam's halves its factors held 9-15 % fewer values
+    than with PETSc's and took 0.26 against 0.36-0.39 s to form), else,
+    or without the library, PETSc's."""
     graph = sp.csr_matrix(graph)
+    graph.setdiag(0)
+    graph.eliminate_zeros()
     graph.sort_indices()
+    if graph.shape[0] < 3:
+        return np.arange(graph.shape[0])
+    order = metis_order(graph) if ordering == "metis" else None
+    if order is not None:
+        return order
     m = PETSc.Mat().createAIJ(graph.shape, comm=PETSc.COMM_SELF, csr=(
         graph.indptr.astype(PETSc.IntType), graph.indices.astype(PETSc.IntType),
         np.ones(graph.nnz)))
@@ -208,6 +222,9 @@ class SeparatedLU:
 
     settled = True
 
+    def __init__(self, ordering="metis"):
+        self.ordering = ordering            # the interiors' (ORDERINGS)
+
     def setUp(self, pc):
         A = pc.getOperators()[1]
         comm = A.getComm()
@@ -219,7 +236,7 @@ class SeparatedLU:
         pattern = _node_pattern(own, nodes)
         S, interior = separator(pattern, lo, ranges, comm)
         graph = pattern[interior - lo][:, interior]
-        interior = interior[_nested_dissection(graph + graph.T)]
+        interior = interior[_nested_dissection(graph + graph.T, self.ordering)]
         local = np.concatenate([interior, S])
         B = _submatrix(A, local, local)
         n = BLOCK * interior.size
@@ -261,9 +278,10 @@ class SeparatedLU:
         return out
 
 
-def separated_lu(ksp):
-    """Make ``ksp``'s preconditioner a SeparatedLU."""
-    python_preconditioner(ksp, SeparatedLU())
+def separated_lu(ksp, ordering="metis"):
+    """Make ``ksp``'s preconditioner a SeparatedLU, its interiors in
+    ``ordering`` (ORDERINGS)."""
+    python_preconditioner(ksp, SeparatedLU(ordering))
 
 
 def separated_at_hand(ksp):

@@ -74,11 +74,24 @@ def default_solver(ksp, comm, courant):
         if PETSc.Options().getBool(PREFIX + "whole_lu", False):
             whole_on_every_rank(ksp)
         else:
-            separated_lu(ksp)
+            separated_lu(ksp, _separated_ordering())
         return
     pc.setType("lu")
     if comm.getSize() > 1:
         pc.setFactorSolverType("mumps")
+
+
+def _separated_ordering():
+    """-vst_plane_separated_ordering: the separated LU's interiors' order
+    (metis, the default, or petsc); InputError for another."""
+    from vstpetsc.errors import InputError
+    from vstpetsc.plane.solver.separated import ORDERINGS
+
+    chosen = PETSc.Options().getString(PREFIX + "separated_ordering", ORDERINGS[0])
+    if chosen not in ORDERINGS:
+        raise InputError(f"-{PREFIX}separated_ordering: {chosen!r} is not "
+                         f"{' or '.join(ORDERINGS)}")
+    return chosen
 
 
 def linear_solver(A, comm, courant=None, operator=None):
