@@ -67,6 +67,16 @@ METIS_OK = 1
 _metis = []
 
 
+def metis_library():
+    """Debian's libmetis5 (None when it is not installed)."""
+    if not _metis:
+        try:
+            _metis.append(ctypes.CDLL(METIS))
+        except OSError:
+            _metis.append(None)
+    return _metis[0]
+
+
 def metis_order(graph):
     """METIS's nested dissection order (new position i takes node
     order[i]) of the symmetric graph ``graph`` (CSR without its diagonal,
@@ -74,12 +84,7 @@ def metis_order(graph):
     generator: the same graph, the same order, on any machine."""
     import numpy as np
 
-    if not _metis:
-        try:
-            _metis.append(ctypes.CDLL(METIS))
-        except OSError:
-            _metis.append(None)
-    lib = _metis[0]
+    lib = metis_library()
     if lib is None:
         return None
     n = graph.shape[0]

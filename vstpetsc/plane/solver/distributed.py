@@ -96,10 +96,13 @@ def _coordinates(dm, xy, comm):
     dm.setCoordinatesLocal(vec)
 
 
-def distribute(mesh, comm, overlap=1, names=None):
+def distribute(mesh, comm, overlap=1, names=None, links=None):
     """The LocalMesh of each rank from ``mesh`` (read on rank 0; ignored
-    elsewhere) with DMPlex's partition; ``names``: the regions' and the
-    curves' names (every rank's; default rank 0's mesh's, broadcast)."""
+    elsewhere) with the cells' parts of vstpetsc.plane.solver.partition
+    (``links``: rank 0's interface pairs' nodes, (m, 2) or None), or
+    DMPlex's own partitioner's with ``-vst_plane_partition petsc`` or
+    without libmetis5; ``names``: the regions' and the curves' names
+    (every rank's; default rank 0's mesh's, broadcast)."""
     rank = comm.getRank()
     if comm.getSize() == 1:        # nothing to distribute: the mesh as it is
         every = np.arange(mesh.nnodes)
@@ -115,6 +118,7 @@ def distribute(mesh, comm, overlap=1, names=None):
     point = np.arange(p0, p1, dtype=PETSc.IntType)     # rank 0's points as read
     cells0 = mesh.ncells if rank == 0 else 0
     if comm.getSize() > 1:
+        _balanced(dm, mesh, links, comm)
         point = _migrated(dm.distribute(overlap=overlap), point, dm.getChart())
     local, _ = _cells(dm)
     v0, v1 = dm.getDepthStratum(0)
@@ -138,6 +142,40 @@ def distribute(mesh, comm, overlap=1, names=None):
     cells = point[c0:c1].astype(np.int64)     # rank 0's cells are its points 0 .. ne - 1
     return LocalMesh(lm, global_vertex, owned, owned_cells, start, start + counts[rank],
                      sum(counts), comm, original, cells)
+
+
+PARTITIONS = ("metis", "petsc")
+
+
+def partition_option():
+    """-vst_plane_partition: metis (the default) or petsc; InputError for
+    another."""
+    from vstpetsc.errors import InputError
+
+    chosen = PETSc.Options().getString("vst_plane_partition", PARTITIONS[0])
+    if chosen not in PARTITIONS:
+        raise InputError(f"-vst_plane_partition: {chosen!r} is not {' or '.join(PARTITIONS)}")
+    return chosen
+
+
+def _balanced(dm, mesh, links, comm):
+    """Give ``dm`` a shell partitioner holding rank 0's cells' parts from
+    partition.balanced_parts (collective; nothing when the option says
+    petsc or libmetis5 is missing: DMPlex's own partitioner then)."""
+    from vstpetsc.plane.solver.partition import balanced_parts
+
+    size, rank0 = comm.getSize(), comm.getRank() == 0
+    chosen = partition_option()             # (every rank: every rank raises)
+    parts = balanced_parts(mesh.cells, size, links) if rank0 and chosen == "metis" else None
+    if not comm.tompi4py().bcast(parts is not None, root=0):
+        return
+    sizes, points = np.zeros(size, dtype=PETSc.IntType), np.zeros(0, dtype=PETSc.IntType)
+    if rank0:
+        sizes = np.bincount(parts, minlength=size).astype(PETSc.IntType)
+        points = np.argsort(parts, kind="stable").astype(PETSc.IntType)
+    partitioner = dm.getPartitioner()
+    partitioner.setType("shell")
+    partitioner.setShellPartition(size, sizes, points)
 
 
 def one_partitioner_thread():
