@@ -50,7 +50,12 @@ def test_the_dam_slides_lifts_and_keeps_its_balance(tmp_path):
 
 
 def test_the_dam_with_its_interface_on_two_ranks_equals_one(tmp_path):
-    mpirun_against_one_rank(tmp_path, dam_case(tmp_path))
+    """Two ranks solve this small dam's slabs by GMRES (c dt / h = 1.05):
+    at its default 1e-12 the two runs agree to 1e-12 until a stick-slip
+    event at 0.26 s multiplies the difference by about 20 (to 6e-11 in
+    DMPlex's own partition, 1.2e-10 in METIS's: the Krylov tolerance, not
+    the distribution, sets it); at 1e-14 they agree to 2e-12."""
+    mpirun_against_one_rank(tmp_path, dam_case(tmp_path), "-vst_plane_ksp_rtol", "1e-14")
 
 
 def continued_with_mpirun(tmp_path, ranks):

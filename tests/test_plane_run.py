@@ -143,13 +143,14 @@ def test_the_dam_on_two_ranks_equals_one(tmp_path):
     assert r.dimension == 2 and np.abs(r.gauge("crest").v).max() > 0.1
 
 
-def mpirun_against_one_rank(tmp_path, case):
-    """Run ``case`` on one rank and under `mpirun -n 2`; assert every
-    dataset of the two within 1e-10 of its largest; the two-rank file."""
+def mpirun_against_one_rank(tmp_path, case, *options):
+    """Run ``case`` on one rank and under `mpirun -n 2` (with PETSc
+    ``options``); assert every dataset of the two within 1e-10 of its
+    largest; the two-rank file."""
     one, two = tmp_path / "one.h5", tmp_path / "two.h5"
     p = run_cli("run", case, "-o", one, "-q")
     assert p.returncode == 0, p.stderr
-    p = mpirun("run", case, "-o", two, "-q")
+    p = mpirun("run", case, "-o", two, "-q", *options)
     assert p.returncode == 0, p.stderr
     assert_same_result(one, two, rtol=1e-10)
     return two

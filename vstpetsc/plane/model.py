@@ -242,8 +242,7 @@ class PlaneModel:
             raise InputError(error)
         self.mesh = mesh                            # the whole mesh on rank 0, None elsewhere
         self.infos, arrays = comm.tompi4py().bcast(split, root=0)
-        self.local = distributed.distribute(mesh, comm, links=arrays[0] if rank0 and arrays
-                                            else None)
+        self.local = distributed.distribute(mesh, comm, links=arrays and arrays[0])
         self.nnodes = self.local.size
         self.ncells = comm.tompi4py().bcast(mesh.ncells if rank0 else None, root=0)
         self.regions = self._regions(self.local.mesh.region_names)

@@ -21,7 +21,6 @@ import numpy as np
 from petsc4py import PETSc
 
 from vstpetsc.plane import assembly
-from vstpetsc.plane.solver.dmplex import _cells
 from vstpetsc.plane.mesh import PlaneMesh
 from vstpetsc.plane.solver.matrices import petsc_matrix
 
@@ -120,10 +119,11 @@ def distribute(mesh, comm, overlap=1, names=None, links=None):
     if comm.getSize() > 1:
         _balanced(dm, mesh, links, comm)
         point = _migrated(dm.distribute(overlap=overlap), point, dm.getChart())
-    local, _ = _cells(dm)
     v0, v1 = dm.getDepthStratum(0)
-    original = comm.tompi4py().bcast(cells0, root=0)
-    original = (point[v0:v1] - original).astype(np.int64)
+    c0, c1 = dm.getHeightStratum(0)
+    cells0, table = comm.tompi4py().bcast((cells0, mesh.cells if rank == 0 else None), root=0)
+    original = (point[v0:v1] - cells0).astype(np.int64)
+    local = _local_cells(table, point[c0:c1], original)
     xy = dm.getCoordinatesLocal().getArray().reshape(-1, 2)
     numbers = dm.getVertexNumbering().getIndices()
     owned = numbers >= 0
@@ -133,7 +133,6 @@ def distribute(mesh, comm, overlap=1, names=None, links=None):
     region, curves = _local_groups(dm, local.shape[0], len(names[0]), names[1])
     lm = PlaneMesh(np.ascontiguousarray(xy), local, region, names[0], curves)
     # a rank's ghost points are the leaves of DMPlex's point SF
-    c0, c1 = dm.getHeightStratum(0)
     owned_cells = np.ones(c1 - c0, dtype=bool)
     leaves = dm.getPointSF().getGraph()[1] if comm.getSize() > 1 else None
     if leaves is not None and len(leaves):
@@ -176,6 +175,22 @@ def _balanced(dm, mesh, links, comm):
     partitioner = dm.getPartitioner()
     partitioner.setType("shell")
     partitioner.setShellPartition(size, sizes, points)
+
+
+def _local_cells(table, cells, original):
+    """(ne, 4) local vertex numbers of the cells ``cells`` (their numbers
+    as read) from the mesh's cell table as read (-1 pads a triangle) and
+    each local vertex's number as read ``original``: the corners in the
+    order read, so that a cell's element matrices are the bits of its
+    one-rank ones (DMPlex's closures, walked cell by cell, took 0.06 s a
+    rank on the 1 m rockfill dam)."""
+    corners = table[cells]
+    local_of = np.full(int(table.max()) + 1, -1, dtype=np.int64)
+    local_of[original] = np.arange(original.size)
+    local = np.where(corners >= 0, local_of[np.maximum(corners, 0)], -1)
+    if (local[corners >= 0] < 0).any():
+        raise RuntimeError("a distributed cell's corner is not among the rank's vertices")
+    return local
 
 
 def one_partitioner_thread():

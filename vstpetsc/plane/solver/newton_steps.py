@@ -78,7 +78,7 @@ class Coupling:
         self.by_ranks = None
         if comm.getSize() > 1 and factors_at_hand(inner) is not None:
             self.by_ranks = DealtColumns(factors_at_hand(inner), dofs, self.u, comm)
-        elif comm.getSize() > 1 and separated_at_hand(inner) is not None:
+        elif separated_at_hand(inner) is not None:
             self.by_ranks = ColumnsTogether(separated_at_hand(inner), dofs, self.u, comm)
 
     def ensure(self, wanted):
