@@ -70,10 +70,6 @@ def default_solver(ksp, comm, courant):
         pc.setASMOverlap(SCHWARZ_OVERLAP)
         return
     ksp.setType("preonly")
-    opts = PETSc.Options()
-    if comm.getSize() == 1 and opts.getBool(PREFIX + "separated_lu", False):
-        separated_lu(ksp, _separated_ordering())    # one interior, no separator
-        return
     if comm.getSize() > 1 and ksp.getOperators()[0].getSize()[0] <= REDUNDANT_UNKNOWNS:
         if PETSc.Options().getBool(PREFIX + "whole_lu", False):
             whole_on_every_rank(ksp)
