@@ -102,6 +102,8 @@ class PairNewton(HeldWork):
         returns the solves it took."""
         keep, w = change
         Z = self.coupling.Z
+        if not self.coupling.known[keep // 4].all():    # (Z's other rows are unwritten)
+            raise RuntimeError("a correction asked for a column not formed")
         if Z is not None:
             x.setArray(x.getArray(readonly=True) - w @ Z[keep])
             return 0
