@@ -154,3 +154,26 @@ def test_a_bad_separated_ordering_is_named(tmp_path):
     ours = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")]
     assert len(ours) == 1 and "-vst_plane_separated_ordering: 'amd'" in ours[0], p.stderr
     assert "Traceback" not in p.stderr
+
+
+def test_the_compiled_correction_subtracts_row_by_row():
+    """pair_newton.subtract_rows (x - w @ Z[rows], the pairs' correction
+    from the kept coupling columns): compiled, the bits of subtracting
+    the rows one by one in their order; numpy's product to rounding."""
+    from vstpetsc.native import library
+    from vstpetsc.plane.solver.pair_newton import subtract_rows
+
+    rng = np.random.default_rng(3)
+    Z = rng.standard_normal((40, 1003))
+    for k in (1, 4, 7, 13):
+        rows, w, x = rng.choice(40, k, replace=False), rng.standard_normal(k), \
+            rng.standard_normal(1003)
+        one_by_one = x.copy()
+        for i in range(k):
+            one_by_one -= w[i] * Z[rows[i]]
+        compiled = subtract_rows(x.copy(), w, Z, rows, library())
+        assert np.array_equal(compiled, one_by_one)
+        numpy_path = subtract_rows(x.copy(), w, Z, rows, None)
+        # (each path within k ulps of the sum's magnitudes: gamma_k)
+        bound = 2 * (k + 1) * np.finfo(float).eps * (np.abs(w) @ np.abs(Z[rows]) + np.abs(x))
+        assert (np.abs(numpy_path - one_by_one) <= bound).all()

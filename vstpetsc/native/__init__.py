@@ -42,7 +42,9 @@ def library():
                                ("vst_column_sweep_many",
                                 [ctypes.c_long, ctypes.c_int] + [_P] * 5 + [ctypes.c_long]),
                                ("vst_block_columns",
-                                [ctypes.c_long, ctypes.c_long, ctypes.c_int] + [_P] * 8)):
+                                [ctypes.c_long, ctypes.c_long, ctypes.c_int] + [_P] * 8),
+                               ("vst_rows_axpy",
+                                [ctypes.c_long, _P, _P, _P, ctypes.c_long, _P])):
                 getattr(lib, name).argtypes = args
                 getattr(lib, name).restype = None
         _loaded.append(lib)

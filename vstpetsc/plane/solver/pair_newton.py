@@ -30,8 +30,10 @@ best of the step halved up to HALVINGS times.  Everything on the pairs
 runs on rank 0."""
 
 import numpy as np
+from petsc4py import PETSc
 
 from vstpetsc.errors import SolveFailed
+from vstpetsc.native import library
 from vstpetsc.plane.solver.contact_newton import HeldWork
 from vstpetsc.plane.solver.newton_steps import Coupling
 
@@ -40,6 +42,20 @@ MAX_IT = 100
 FULL_STEPS = 12
 HALVINGS = 12
 UNCHANGED = 1e-14       # a change of e below this times |e| is rounding
+
+
+def subtract_rows(x, w, Z, rows, lib):
+    """x - w @ Z[rows], in place in x: by the compiled library ``lib``
+    (each row read once, in the order given) or, None, numpy's (the rows
+    first copied)."""
+    if lib is None:
+        x -= w @ Z[rows]
+        return x
+    rows = np.ascontiguousarray(rows, dtype=np.int64)
+    w = np.ascontiguousarray(w, dtype=float)
+    lib.vst_rows_axpy(rows.size, rows.ctypes.data, w.ctypes.data, Z.ctypes.data, Z.shape[1],
+                      x.ctypes.data)
+    return x
 
 
 class PairNewton(HeldWork):
@@ -60,6 +76,7 @@ class PairNewton(HeldWork):
         self.values = self.z = None
         self.terms = (self,)            # its own values and z: HeldWork's one term
         self.bcast = comm.tompi4py().bcast
+        self.lib = library() if PETSc.Options().getBool("vst_native", True) else None
 
     def solve(self, b, x, k):
         """x solves the slab of right-hand side b from the start x holds
@@ -105,7 +122,7 @@ class PairNewton(HeldWork):
         if not self.coupling.known[keep // 4].all():    # (Z's other rows are unwritten)
             raise RuntimeError("a correction asked for a column not formed")
         if Z is not None:
-            x.setArray(x.getArray(readonly=True) - w @ Z[keep])
+            x.setArray(subtract_rows(x.getArray(readonly=True).copy(), w, Z, keep, self.lib))
             return 0
         full = np.zeros(4 * self.pairs.m)
         full[keep] = w
