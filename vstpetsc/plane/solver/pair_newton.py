@@ -146,7 +146,7 @@ class PairNewton(HeldWork):
         self.coupling.ensure(changed)
         if not self.rank0:
             return None
-        se = (self.coupling.S[:, cols] @ w[cols]).reshape(-1, 4)
+        se = (w[cols] @ self.coupling.ST[cols]).reshape(-1, 4)
         r = y - self.y1 + se
         tol = RTOL * (np.abs(self.y1).max(initial=0.0) + np.abs(y).max(initial=0.0)
                       + np.abs(se).max(initial=0.0) + self.offset_scale)
@@ -192,13 +192,13 @@ class PairNewton(HeldWork):
         if not K.size:
             return step
         rows = (4 * K[:, None] + np.arange(4)).ravel()
-        SK = self.coupling.S[:, rows]                              # (4m, 4k)
+        SK_T = self.coupling.ST[rows]                    # S_K transposed (4k, 4m)
         # (S D)[rows] with D's 4 x 4 blocks: a batched product on the k rows
         # of blocks; the rest of S D dK as S_K (D dK), a product with a vector
-        own = np.matmul(SK[rows].reshape(-1, K.size, 4).transpose(1, 0, 2), D[K])
+        own = np.matmul(SK_T[:, rows].T.reshape(-1, K.size, 4).transpose(1, 0, 2), D[K])
         own = own.transpose(1, 0, 2).reshape(rows.size, rows.size)
         dK = np.linalg.solve(np.eye(rows.size) + own, -r.ravel()[rows])
-        flat = -r.ravel() - SK @ np.matmul(D[K], dK.reshape(-1, 4, 1)).ravel()
+        flat = -r.ravel() - np.matmul(D[K], dK.reshape(-1, 4, 1)).ravel() @ SK_T
         flat[rows] = dK
         return flat.reshape(-1, 4)
 
