@@ -65,7 +65,13 @@ def _submatrix(A, rows, cols):
     (ir, r_order), (ic, c_order) = block_is(rows), block_is(cols)
     sub = _csr_of(A.createSubMatrices(ir, ic)[0])
     back = lambda order: (BLOCK * np.argsort(order)[:, None] + np.arange(BLOCK)).ravel()
-    return sub[back(r_order)][:, back(c_order)]
+    sub = sub[back(r_order)]
+    # the columns renumbered in place (scipy's column pick took 0.1 s a rank)
+    new_of = np.empty(sub.shape[1], dtype=sub.indices.dtype)
+    new_of[back(c_order)] = np.arange(sub.shape[1])
+    sub.indices = new_of[sub.indices]
+    sub.has_sorted_indices = False
+    return sub
 
 
 def separator(own_rows, first, ranges, comm):
