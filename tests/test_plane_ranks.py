@@ -260,3 +260,28 @@ def test_coupling_columns_dealt_to_the_ranks_are_the_collective_ones(tmp_path):
     assert not unequal(a, b, skip=WALL)
     for name in ("contact", "core_upstream", "core_downstream"):
         assert np.abs(a[f"interface/{name}/slip"]).max() > 1e-5, name
+
+
+FAILING = """
+import sys
+import vstpetsc.plane.solver.pair_newton as pair_newton
+from vstpetsc.cli import main
+
+pair_newton.MAX_IT = 1          # the block's sliding slabs need more
+sys.exit(main(["run", sys.argv[1], "-o", sys.argv[2], "--quiet"]))
+"""
+
+
+@pytest.mark.parametrize("ranks", [2, 3])
+def test_a_failed_interface_newton_ends_every_rank(tmp_path, ranks):
+    """Rank 0 runs the pairs' Newton and tells the other ranks its end:
+    when it fails, every rank stops with its message (no rank left
+    waiting), and the result file says "failed"."""
+    script, out = tmp_path / "failing.py", tmp_path / "r.h5"
+    script.write_text(FAILING)
+    p = mpirun(block(tmp_path), out, n=ranks, timeout=120, program=f"{sys.executable} {script}")
+    assert p.returncode == 3, p.stderr          # (cli.EXIT_SOLVE_FAILED)
+    ours = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")]
+    assert len(ours) == 1 and "the interfaces' Newton did not converge in 1" in ours[0], p.stderr
+    assert "Traceback" not in p.stderr
+    assert Result(out).status == "failed"

@@ -67,8 +67,10 @@ def plex(mesh, comm, curve_names):
     dm.interpolate()
     _coordinates(dm, mesh.coordinates if rank0 else np.zeros((0, 2)), comm)
     dm.createLabel("region")
-    for c in range(nc):
-        dm.setLabelValue("region", c, int(mesh.region[c]))
+    label = dm.getLabel("region")
+    for r in (np.unique(mesh.region) if rank0 else ()):     # a region's cells at once
+        cells = np.flatnonzero(mesh.region == r).astype(PETSc.IntType)
+        label.setStratumIS(int(r), PETSc.IS().createGeneral(cells, comm=PETSc.COMM_SELF))
     for name in curve_names:              # (every rank has every label)
         dm.createLabel(name)
         for a, b in (mesh.curves[name] + nc if rank0 else ()):

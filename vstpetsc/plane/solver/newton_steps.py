@@ -24,6 +24,7 @@ from vstpetsc.plane.solver.redundant import factors_at_hand
 from vstpetsc.plane.solver.separated import separated_at_hand
 
 DENSE_PAIRS = 1000
+FORM = "form"           # rank 0's word to the other ranks: form these pairs' columns
 
 
 def kind(pairs):
@@ -88,14 +89,29 @@ class Coupling:
             self.by_ranks = ColumnsTogether(separated_at_hand(inner), dofs, self.u, comm)
 
     def ensure(self, wanted):
-        """Form the columns of the pairs ``wanted`` (rank 0's list; every
-        rank calls) not formed yet."""
-        wanted = self.comm.tompi4py().bcast(wanted, root=0)
-        new = [int(p) for p in np.unique(wanted) if not self.known[p]]
-        if not new:                 # (every rank knows the same pairs)
+        """Rank 0: form the columns of the pairs ``wanted`` not formed yet,
+        the other ranks called in (``serve``) only then."""
+        new = np.unique(wanted)
+        new = new[~self.known[new]]
+        if not new.size:
             return
+        if self.comm.getSize() > 1:
+            self.comm.tompi4py().bcast((FORM, new), root=0)
+        self._form(new)
+
+    def serve(self):
+        """The other ranks: form columns as rank 0 asks (``ensure``) until
+        it sends another word; returns that word."""
+        while True:
+            word = self.comm.tompi4py().bcast(None, root=0)
+            if word[0] != FORM:
+                return word
+            self._form(word[1])
+
+    def _form(self, new):
+        """The columns of the pairs ``new`` (collective)."""
         if self.by_ranks is not None:
-            self.by_ranks.form([4 * p + c for p in new for c in range(4)], self)
+            self.by_ranks.form([4 * int(p) + c for p in new for c in range(4)], self)
         else:
             self._collective(new)
         self.known[new] = True
@@ -103,7 +119,7 @@ class Coupling:
 
     def _collective(self, new):
         """The columns of the pairs ``new``, each a solve of every rank."""
-        for j in (4 * p + c for p in new for c in range(4)):
+        for j in (4 * int(p) + c for p in new for c in range(4)):
             self.v.zeroEntries()
             self.dofs.add(_pair_vector(self.pairs, j) if self.rank0 else None, self.v)
             self.inner.solve(self.v, self.u)

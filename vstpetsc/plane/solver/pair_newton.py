@@ -37,6 +37,7 @@ from vstpetsc.native import library
 from vstpetsc.plane.solver.contact_newton import HeldWork
 from vstpetsc.plane.solver.newton_steps import Coupling
 
+DONE, FAILED = "done", "failed"      # rank 0's last word of a slab's Newton
 RTOL = 1e-12
 MAX_IT = 100
 FULL_STEPS = 12
@@ -90,17 +91,33 @@ class PairNewton(HeldWork):
         self.dofs.add(None if self.e0 is None else -self.pairs.to_dofs(self.e0), self.rhs)
         self.inner.solve(self.rhs, x)
         z = self.dofs.gather(x)
-        self.y1 = self.pairs.coordinates(z) if self.rank0 else None
-        self.offset_scale = self._offset_scale() if self.rank0 else 0.0
-        its, e = self._newton(k)
-        change = None
-        if self.rank0:
-            self.values, self.z = self.pairs.to_dofs(e), z
-            change = self._change(e)
-        change = self.bcast(change, root=0)
+        outcome = self._lead(k, z) if self.rank0 else self.coupling.serve()
+        if outcome[0] == FAILED:
+            raise SolveFailed(outcome[1])
+        _, its, change = outcome
         # (the coupling's columns, formed once per pair, are not the slab's
         # solves: a restart forms them again, and its rows are the same)
         return its, 1 + (self._correct(x, change) if change is not None else 0)
+
+    def _lead(self, k, z):
+        """Rank 0: the Newton from the pairs' unknowns z after the slab's
+        solve, the other ranks called in only to form columns
+        (Coupling.serve); (DONE, iterations, e's change) or (FAILED, why),
+        sent to them too."""
+        try:
+            self.y1 = self.pairs.coordinates(z)
+            self.offset_scale = self._offset_scale()
+            its, e = self._newton(k)
+            self.values, self.z = self.pairs.to_dofs(e), z
+            outcome = (DONE, its, self._change(e))
+        except Exception as exc:        # (the other ranks must hear of any)
+            outcome = (FAILED, str(exc))
+            if self.comm.getSize() > 1:
+                self.bcast(outcome, root=0)
+            raise
+        if self.comm.getSize() > 1:
+            self.bcast(outcome, root=0)
+        return outcome
 
     def _changed(self, e):
         """(indices of e - e0 beyond rounding, e - e0): a pair closed and
@@ -134,18 +151,13 @@ class PairNewton(HeldWork):
         return 1
 
     def _residual(self, y):
-        """(r, max |r|, tolerance, e) at y on rank 0 (None elsewhere), the
-        kernels evaluated there: r = y - y1 + S (e - e0) (collective: the
-        columns of the pairs whose e changed are formed first)."""
-        changed = None
-        if self.rank0:
-            self.pairs.evaluate_at(y)
-            e = self.pairs.excess()
-            cols, w = self._changed(e)
-            changed = np.unique(cols // 4)
-        self.coupling.ensure(changed)
-        if not self.rank0:
-            return None
+        """(r, max |r|, tolerance, e) at y, the kernels evaluated there:
+        r = y - y1 + S (e - e0) (the columns of the pairs whose e changed
+        formed first; rank 0's)."""
+        self.pairs.evaluate_at(y)
+        e = self.pairs.excess()
+        cols, w = self._changed(e)
+        self.coupling.ensure(np.unique(cols // 4))
         se = (w[cols] @ self.coupling.ST[cols]).reshape(-1, 4)
         r = y - self.y1 + se
         tol = RTOL * (np.abs(self.y1).max(initial=0.0) + np.abs(y).max(initial=0.0)
@@ -161,33 +173,25 @@ class PairNewton(HeldWork):
                      .max(initial=0.0))
 
     def _newton(self, k):
-        """(iterations, e at the solution y on rank 0), the kernels' last
-        evaluation there (collective)."""
+        """(iterations, e at the solution y), the kernels' last evaluation
+        there (rank 0's)."""
         y = self.y1
         state = self._residual(y)
         for it in range(MAX_IT + 1):
-            done = self.bcast(None if state is None else state[1] <= state[2], root=0)
-            if done:
-                return it, None if state is None else state[3]
+            if state[1] <= state[2]:
+                return it, state[3]
             if it == MAX_IT:
                 break
-            step = self._step(None if state is None else state[0])
-            y, state = self._line(y, step, state, it)
-        norm = self.bcast(None if state is None else state[1:3], root=0)
+            y, state = self._line(y, self._step(state[0]), state, it)
         raise SolveFailed(f"slab {k}: the interfaces' Newton did not converge in {MAX_IT} "
-                          f"iterations (max |r| = {norm[0]:.3g}, tolerance {norm[1]:.3g})")
+                          f"iterations (max |r| = {state[1]:.3g}, tolerance {state[2]:.3g})")
 
     def _step(self, r):
-        """-(I + S e'(y))^-1 r on rank 0, over the pairs whose e' is not
-        zero (collective: their columns formed first)."""
-        K = None
-        if self.rank0:
-            D = self.pairs.excess_tangent()
-            K = np.flatnonzero(np.abs(D).reshape(D.shape[0], -1).max(axis=1) >
-                               self.pairs.rounding)
+        """-(I + S e'(y))^-1 r over the pairs whose e' is not zero (their
+        columns formed first; rank 0's)."""
+        D = self.pairs.excess_tangent()
+        K = np.flatnonzero(np.abs(D).reshape(D.shape[0], -1).max(axis=1) > self.pairs.rounding)
         self.coupling.ensure(K)
-        if not self.rank0:
-            return None
         step = -r.copy()
         if not K.size:
             return step
@@ -204,19 +208,16 @@ class PairNewton(HeldWork):
 
     def _line(self, y, step, state, it):
         """(y + lam step, its residual): lam = 1 for the first FULL_STEPS
-        iterations, then the best of 1 and its halvings (collective)."""
+        iterations, then the best of 1 and its halvings (rank 0's)."""
         best, lam = None, 1.0
         for _ in range(1 if it < FULL_STEPS else HALVINGS):
-            trial = None if step is None else y + lam * step
+            trial = y + lam * step
             new = self._residual(trial)
-            if self.rank0 and (best is None or new[1] < best[1][1]):
+            if best is None or new[1] < best[1][1]:
                 best = (trial, new, lam)
-            if self.bcast(None if new is None else new[1] < state[1], root=0):
+            if new[1] < state[1]:
                 break
             lam *= 0.5
-        chosen = self.bcast(None if best is None else best[2] != lam, root=0)
-        if chosen:                                # the kernels at the chosen y
-            best = (best[0], self._residual(best[0]), best[2]) if self.rank0 else best
-            if not self.rank0:
-                self._residual(None)
-        return (best[0], best[1]) if self.rank0 else (None, None)
+        if best[2] != lam:                      # the kernels at the chosen y
+            best = (best[0], self._residual(best[0]), best[2])
+        return best[0], best[1]

@@ -21,11 +21,12 @@ factors once, about half the whole matrix's on two ranks.  The factors
 by the compiled vst_column_sweep (native/block_sweep.c; without it, or
 with -vst_native 0, scipy's triangular solves).
 
-On the 1 m rockfill dam's slab matrix (12 942 nodes; DMPlex's two parts,
-the separator 108 nodes) the two ranks' solves at once took 2.9-3.6 ms
-against 5.6-6.2 for the whole matrix's PETSc LU on one, their set-up
-0.5-0.8 s against 0.8-0.9 (docs/parallel.md, bench/README.md "Two ranks
-on a dam")."""
+On the 1 m rockfill dam's slab matrix (12 942 nodes; METIS's two parts,
+vstpetsc.plane.solver.partition, the separator 73 nodes; interiors in
+METIS's nested dissection) the two ranks' solves at once took 2.3-3.0 ms
+(min of 80) against 5.6-6.2 for the whole matrix's PETSc LU on one;
+their set-up 0.4-0.9 s a rank (the machine's load) against 0.8-1.1
+(docs/parallel.md, bench/README.md "Two ranks on a dam")."""
 
 import numpy as np
 import scipy.linalg
