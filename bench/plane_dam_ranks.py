@@ -19,7 +19,7 @@ import vstpetsc
 from vstpetsc import bundled
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-END, REPEATS = 1.5, 5
+END, REPEATS = 1.5, 7
 
 
 def dam_case(folder, end):
@@ -69,17 +69,23 @@ def section(out):
         f"| 2 | {out['2_min_s']:.2f} / {out['2_median_s']:.2f} |", "",
         f"Speed-up {out['speedup_min']:.2f} (minima) / {out['speedup_median']:.2f} (medians).",
         "",
-        "Where the time goes (cProfile of each rank, 2026-12-07). Two ranks, 7.1 s in all: "
-        "set-up 1.96 s (each rank's interior LU and the separator, "
-        "vstpetsc/plane/solver/separated.py, 0.79 s; the static start 0.42 s on rank 0; the "
-        "model 0.41 s); the slabs 4.90 s: their solves (375, 3.3-3.6 ms each against 5.6-6.2 "
-        "for the one-rank LU), the interfaces' coupling columns 0.82 s (296, solved together "
-        "as pairs first need them, 44 times), the pairs' own Newton 1.1 s on rank 0 while "
-        "rank 1 waits, each rank's corrections 0.43 s. One rank, 9.0 s: set-up 1.82 s (LU "
-        "0.79 s, static start 0.39 s, model 0.30 s), slabs 7.09 s (their solves 2.2 s, the "
-        "columns 1.95 s, corrections 0.69 s). What a second rank does not share: the set-up "
-        "(its LU halves, the rest does not), the static start, the pairs' Newton. Before "
-        "this step (every rank's LU of the whole matrix): 1.09 / 1.11.",
+        "Where the time goes (2026-12-07, in-process timers on each rank, load 1.4). Two "
+        "ranks, 6.0 s in all: set-up about 1.7 s (each rank's interior LU and the separator, "
+        "vstpetsc/plane/solver/separated.py, 0.4-0.9 s; the static start 0.5 s and the mesh "
+        "read 0.2-0.3 s on rank 0); the slabs' solves 1.09-1.14 s (375); the interfaces' "
+        "coupling columns 0.58-0.60 s (296, solved together as pairs first need them, 44 "
+        "times); the pairs' own Newton 0.68-0.72 s on rank 0 while rank 1 waits for its "
+        "word; each rank's corrections 0.14-0.16 s. One rank, 9.4 s: the columns 2.68 s (one "
+        "solve each), the pairs' Newton 0.77 s, corrections 0.23 s. What a second rank does "
+        "not share: the mesh read, the static start, the pairs' Newton. The steps of this "
+        "stop, each measured: the factors' blocks gathered in one compiled pass (set-up 0.93 "
+        "-> 0.54 s a rank); METIS's nested dissection of the interiors (factors 9-15 % "
+        "smaller) and METIS's parts weighted by nodes (the ranks' nodes 6435 / 6507 against "
+        "6104 / 6838, separator 73 against 108 nodes); the corrections compiled (0.42 -> "
+        "0.16 s); S kept by columns (the Newton 0.84 -> 0.71 s); rank 0 leading the Newton "
+        "(44 broadcasts instead of 6000). Earlier: 1.09 / 1.11 with every rank's LU of the "
+        "whole matrix, 1.30 / 1.44 after the separated LU (bench/README.md of 2026-12-07's "
+        "first stop).",
         ""])
 
 
