@@ -83,12 +83,6 @@ def test_a_distributed_dam_owns_as_many_nodes_a_rank(tmp_path, ranks):
 
 
 def test_a_bad_partition_option_is_named(tmp_path):
-    from test_plane_ranks import shortened
+    from test_plane_ranks import assert_bad_option_named
 
-    path = shortened(tmp_path, "gravity-dam", 0.02, "bad")
-    p = mpirun("run", path, "-o", tmp_path / "r.h5", "-vst_plane_partition", "chaco",
-               timeout=120)
-    assert p.returncode == 2
-    ours = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")]
-    assert len(ours) == 1 and "-vst_plane_partition: 'chaco'" in ours[0], p.stderr
-    assert "Traceback" not in p.stderr
+    assert_bad_option_named(tmp_path, "vst_plane_partition", "chaco")

@@ -37,6 +37,17 @@ def shortened(tmp_path, name, end, stem):
     return path
 
 
+def assert_bad_option_named(tmp_path, option, value):
+    """A short gravity-dam on two ranks with ``-option value``: exit 2, one
+    line naming the option and the value, no traceback."""
+    path = shortened(tmp_path, "gravity-dam", 0.02, "bad")
+    p = mpirun("run", path, "-o", tmp_path / "r.h5", f"-{option}", value, timeout=120)
+    assert p.returncode == 2
+    ours = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")]
+    assert len(ours) == 1 and f"-{option}: '{value}'" in ours[0], p.stderr
+    assert "Traceback" not in p.stderr
+
+
 def mpirun_ok(*args, n):
     p = mpirun(*args, "--quiet", n=n)
     assert p.returncode == 0, p.stderr

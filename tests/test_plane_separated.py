@@ -145,15 +145,9 @@ def test_metis_orders_a_grid_by_nested_dissection():
 
 
 def test_a_bad_separated_ordering_is_named(tmp_path):
-    from test_plane_ranks import shortened
+    from test_plane_ranks import assert_bad_option_named
 
-    path = shortened(tmp_path, "gravity-dam", 0.02, "bad")
-    p = mpirun("run", path, "-o", tmp_path / "r.h5", "-vst_plane_separated_ordering", "amd",
-               timeout=120)
-    assert p.returncode == 2
-    ours = [l for l in p.stderr.splitlines() if l.startswith("vstpetsc: error")]
-    assert len(ours) == 1 and "-vst_plane_separated_ordering: 'amd'" in ours[0], p.stderr
-    assert "Traceback" not in p.stderr
+    assert_bad_option_named(tmp_path, "vst_plane_separated_ordering", "amd")
 
 
 def test_the_compiled_correction_subtracts_row_by_row():
