@@ -48,7 +48,7 @@ def measure_overhead(quick):
     """The small-size table: per-slab cost with output every slab against
     one PCApply of the same case, and the whole bar-wall example."""
     sizes = [100, 1000] if quick else [100, 1000, 10_000]
-    reps = 2 if quick else 5
+    reps = 1 if quick else 5          # (quick: the fields, once; `make bench` repeats)
     rows = []
     for n in sizes:
         for kind in overhead.CASES:
@@ -69,7 +69,7 @@ def measure_overhead(quick):
 
 def measure(quick):
     sizes = [1000, 10_000] if quick else [1000, 10_000, 100_000, 1_000_000]
-    reps = 2 if quick else 3
+    reps = 1 if quick else 3
     res = {"quick": quick, "machine": f"{platform.node()} {os.cpu_count()} cores",
            "date": time.strftime("%Y-%m-%d"), "limit": [], "contact": {}, "peer": {}}
     for n in sizes:

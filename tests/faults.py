@@ -298,7 +298,7 @@ def command_reads(out, k):
     return True, command
 
 
-def read_while_running(folder, reads=2000, commands=3, every=1000, elements=1000, seconds=120.0):
+def read_while_running(folder, reads=1000, commands=3, every=1000, elements=1000, seconds=120.0):
     """A soak: ``reads`` Result reads and ``commands`` commands (info, export
     --csv, plot in turn) of the file a run writes, a block per kept row,
     with the other core kept busy; the run outlasts them (ten million

@@ -238,7 +238,7 @@ def test_nothing_made_in_swmr_mode(tmp_path, monkeypatch):
 
 
 def test_reads_while_a_run_writes(tmp_path):
-    """A soak: 2000 Result reads and info, export --csv, plot of a file a run
+    """A soak: 1000 Result reads and info, export --csv, plot of a file a run
     writes a block per kept row into (HDF5's SWMR mode), the other core
     busy: every read a consistent prefix of the final file."""
     ok, detail = faults.read_while_running(str(tmp_path))
