@@ -23,7 +23,7 @@ with -vst_native 0, scipy's triangular solves).
 
 On the 1 m rockfill dam's slab matrix (12 942 nodes; METIS's two parts,
 vstpetsc.plane.solver.partition, the separator 73 nodes; interiors in
-METIS's nested dissection) the two ranks' solves at once took 2.3-3.0 ms
+METIS's nested dissection) the two ranks' solves at once took 2.3-3.4 ms
 (min of 80) against 5.6-6.2 for the whole matrix's PETSc LU on one;
 their set-up 0.4-0.9 s a rank (the machine's load) against 0.8-1.1
 (docs/parallel.md, bench/README.md "Two ranks on a dam")."""
