@@ -115,9 +115,10 @@ def test_the_separated_lu_solves_the_slab_matrix(tmp_path, n):
         assert r["share"] < (0.6 if n == 2 else 0.5), r["share"]
     scipy_path, x_scipy = solve(tmp_path, n, "-vst_native", "0")
     assert np.abs(x - x_scipy).max() <= 1e-12 * np.abs(x).max()
-    petsc, x_petsc = solve(tmp_path, n, ordering="petsc")
-    assert all(r["residual"] <= 100 * eps for r in petsc)
-    assert np.abs(x - x_petsc).max() <= 1e-12 * np.abs(x).max()
+    if n == 2:                          # (one count of ranks is enough for the order)
+        petsc, x_petsc = solve(tmp_path, n, ordering="petsc")
+        assert all(r["residual"] <= 100 * eps for r in petsc)
+        assert np.abs(x - x_petsc).max() <= 1e-12 * np.abs(x).max()
 
 
 def test_metis_orders_a_grid_by_nested_dissection():

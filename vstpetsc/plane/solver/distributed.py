@@ -105,6 +105,7 @@ def distribute(mesh, comm, overlap=1, names=None, links=None):
     without libmetis5; ``names``: the regions' and the curves' names
     (every rank's; default rank 0's mesh's, broadcast)."""
     rank = comm.getRank()
+    partition_option()              # (a bad value is named on one rank too)
     if comm.getSize() == 1:        # nothing to distribute: the mesh as it is
         every = np.arange(mesh.nnodes)
         return LocalMesh(mesh, every, np.ones(mesh.nnodes, dtype=bool),

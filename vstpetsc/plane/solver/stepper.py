@@ -63,6 +63,7 @@ def default_solver(ksp, comm, courant):
     """Set ``ksp`` to the default for ``comm``'s size and the slabs'
     Courant number (before the options database may change it)."""
     pc = ksp.getPC()
+    ordering = _separated_ordering()    # (a bad value is named on one rank too)
     if comm.getSize() > 1 and courant is not None and courant <= SCHWARZ_COURANT:
         ksp.setType("gmres")
         ksp.setTolerances(rtol=KRYLOV_RTOL, atol=0.0, max_it=200)
@@ -74,7 +75,7 @@ def default_solver(ksp, comm, courant):
         if PETSc.Options().getBool(PREFIX + "whole_lu", False):
             whole_on_every_rank(ksp)
         else:
-            separated_lu(ksp, _separated_ordering())
+            separated_lu(ksp, ordering)
         return
     pc.setType("lu")
     if comm.getSize() > 1:
