@@ -79,6 +79,15 @@ def metis_library():
     return _metis[0]
 
 
+def metis_defaults(lib):
+    """METIS's default options (int32, METIS_NOPTIONS of them) from ``lib``."""
+    import numpy as np
+
+    options = np.zeros(METIS_NOPTIONS, dtype=np.int32)
+    lib.METIS_SetDefaultOptions(options.ctypes.data_as(_P))
+    return options
+
+
 def metis_order(graph):
     """METIS's nested dissection order (new position i takes node
     order[i]) of the symmetric graph ``graph`` (CSR without its diagonal,
@@ -91,8 +100,7 @@ def metis_order(graph):
         return None
     n = graph.shape[0]
     xadj, adjncy = graph.indptr.astype(np.int32), graph.indices.astype(np.int32)
-    options = np.zeros(METIS_NOPTIONS, dtype=np.int32)
-    lib.METIS_SetDefaultOptions(options.ctypes.data_as(_P))
+    options = metis_defaults(lib)
     perm, iperm = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
     status = lib.METIS_NodeND(ctypes.byref(ctypes.c_int32(n)), xadj.ctypes.data_as(_P),
                               adjncy.ctypes.data_as(_P), None, options.ctypes.data_as(_P),

@@ -105,7 +105,7 @@ def distribute(mesh, comm, overlap=1, names=None, links=None):
     without libmetis5; ``names``: the regions' and the curves' names
     (every rank's; default rank 0's mesh's, broadcast)."""
     rank = comm.getRank()
-    partition_option()              # (a bad value is named on one rank too)
+    chosen = partition_option()     # (every rank, one rank too: every rank raises)
     if comm.getSize() == 1:        # nothing to distribute: the mesh as it is
         every = np.arange(mesh.nnodes)
         return LocalMesh(mesh, every, np.ones(mesh.nnodes, dtype=bool),
@@ -120,7 +120,8 @@ def distribute(mesh, comm, overlap=1, names=None, links=None):
     point = np.arange(p0, p1, dtype=PETSc.IntType)     # rank 0's points as read
     cells0 = mesh.ncells if rank == 0 else 0
     if comm.getSize() > 1:
-        _balanced(dm, mesh, links, comm)
+        if chosen == "metis":
+            _balanced(dm, mesh, links, comm)
         point = _migrated(dm.distribute(overlap=overlap), point, dm.getChart())
     v0, v1 = dm.getDepthStratum(0)
     c0, c1 = dm.getHeightStratum(0)
@@ -162,13 +163,12 @@ def partition_option():
 
 def _balanced(dm, mesh, links, comm):
     """Give ``dm`` a shell partitioner holding rank 0's cells' parts from
-    partition.balanced_parts (collective; nothing when the option says
-    petsc or libmetis5 is missing: DMPlex's own partitioner then)."""
+    partition.balanced_parts (collective; nothing when libmetis5 is
+    missing: DMPlex's own partitioner then)."""
     from vstpetsc.plane.solver.partition import balanced_parts
 
     size, rank0 = comm.getSize(), comm.getRank() == 0
-    chosen = partition_option()             # (every rank: every rank raises)
-    parts = balanced_parts(mesh.cells, size, links) if rank0 and chosen == "metis" else None
+    parts = balanced_parts(mesh.cells, size, links) if rank0 else None
     if not comm.tompi4py().bcast(parts is not None, root=0):
         return
     sizes, points = np.zeros(size, dtype=PETSc.IntType), np.zeros(0, dtype=PETSc.IntType)

@@ -60,7 +60,8 @@ class Coupling:
     columns A_c^-1 E (each rank its rows, when they fit in COLUMNS_BYTES
     a rank; else ``Z`` is None), formed a pair at a time (4 solves with
     A_c) the first time a pair leaves the closed, sticking state: a pair
-    that never does costs nothing (collective)."""
+    that never does costs nothing (rank 0 asks, ``ensure``; the other
+    ranks take part, ``serve``)."""
 
     def __init__(self, A_c, inner, pairs, dofs, comm):
         self.inner, self.pairs, self.dofs, self.comm = inner, pairs, dofs, comm
@@ -95,9 +96,13 @@ class Coupling:
         new = new[~self.known[new]]
         if not new.size:
             return
-        if self.comm.getSize() > 1:
-            self.comm.tompi4py().bcast((FORM, new), root=0)
+        self.tell((FORM, new))
         self._form(new)
+
+    def tell(self, word):
+        """Rank 0: send ``word`` to the other ranks' ``serve``."""
+        if self.comm.getSize() > 1:
+            self.comm.tompi4py().bcast(word, root=0)
 
     def serve(self):
         """The other ranks: form columns as rank 0 asks (``ensure``) until
@@ -110,16 +115,17 @@ class Coupling:
 
     def _form(self, new):
         """The columns of the pairs ``new`` (collective)."""
+        columns = [4 * int(p) + c for p in new for c in range(4)]
         if self.by_ranks is not None:
-            self.by_ranks.form([4 * int(p) + c for p in new for c in range(4)], self)
+            self.by_ranks.form(columns, self)
         else:
-            self._collective(new)
+            self._collective(columns)
         self.known[new] = True
-        self.solves += 4 * len(new)
+        self.solves += len(columns)
 
-    def _collective(self, new):
-        """The columns of the pairs ``new``, each a solve of every rank."""
-        for j in (4 * int(p) + c for p in new for c in range(4)):
+    def _collective(self, columns):
+        """The ``columns``, each a solve of every rank."""
+        for j in columns:
             self.v.zeroEntries()
             self.dofs.add(_pair_vector(self.pairs, j) if self.rank0 else None, self.v)
             self.inner.solve(self.v, self.u)

@@ -76,7 +76,6 @@ class PairNewton(HeldWork):
         self.own = own * pairs.hk[0, 0]
         self.values = self.z = None
         self.terms = (self,)            # its own values and z: HeldWork's one term
-        self.bcast = comm.tompi4py().bcast
         self.lib = library() if PETSc.Options().getBool("vst_native", True) else None
 
     def solve(self, b, x, k):
@@ -111,12 +110,9 @@ class PairNewton(HeldWork):
             self.values, self.z = self.pairs.to_dofs(e), z
             outcome = (DONE, its, self._change(e))
         except Exception as exc:        # (the other ranks must hear of any)
-            outcome = (FAILED, str(exc))
-            if self.comm.getSize() > 1:
-                self.bcast(outcome, root=0)
+            self.coupling.tell((FAILED, str(exc)))
             raise
-        if self.comm.getSize() > 1:
-            self.bcast(outcome, root=0)
+        self.coupling.tell(outcome)
         return outcome
 
     def _changed(self, e):

@@ -15,7 +15,7 @@ import ctypes
 
 import numpy as np
 
-from vstpetsc.native import metis_library
+from vstpetsc.native import METIS_OK, metis_defaults, metis_library
 
 SCALE = 60          # a node's weight split among up to 6 cells stays whole
 
@@ -31,9 +31,10 @@ def cell_graph(cells, links=None):
     owner = np.repeat(np.arange(ne), 4)
     real = a >= 0
     a, b, owner = a[real], b[real], owner[real]
-    cell_of = np.full(cells.max() + 1, -1)
+    nodes = cells.max() + 1
+    cell_of = np.full(nodes, -1)
     cell_of[a] = owner                      # a cell of each node (any serves a link)
-    key = np.minimum(a, b).astype(np.int64) * (cells.max() + 1) + np.maximum(a, b)
+    key = np.minimum(a, b).astype(np.int64) * nodes + np.maximum(a, b)
     order = np.argsort(key, kind="stable")
     key, owner = key[order], owner[order]
     twin = np.flatnonzero(key[1:] == key[:-1])
@@ -68,8 +69,7 @@ def balanced_parts(cells, parts, links=None):
     indptr, indices = cell_graph(cells, links)
     weights = node_shares(cells)
     n = cells.shape[0]
-    options = np.zeros(40, dtype=np.int32)
-    lib.METIS_SetDefaultOptions(options.ctypes.data_as(ctypes.c_void_p))
+    options = metis_defaults(lib)
     part, cut = np.zeros(n, dtype=np.int32), ctypes.c_int32(0)
     P = ctypes.c_void_p
     status = lib.METIS_PartGraphRecursive(
@@ -77,6 +77,6 @@ def balanced_parts(cells, parts, links=None):
         indptr.ctypes.data_as(P), indices.ctypes.data_as(P), weights.ctypes.data_as(P),
         None, None, ctypes.byref(ctypes.c_int32(parts)), None, None,
         options.ctypes.data_as(P), ctypes.byref(cut), part.ctypes.data_as(P))
-    if status != 1:
+    if status != METIS_OK:
         raise RuntimeError(f"METIS_PartGraphRecursive failed ({status})")
     return part.astype(np.int64)
